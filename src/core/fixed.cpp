@@ -1,0 +1,59 @@
+#include "core/fixed.h"
+
+namespace ml {
+
+bool normalize_q30(const Vec3i& v, Vec3i* out) {
+  // Bring the vector to about 2^20 per component so the squared length fits comfortably and
+  // isqrt keeps about 20 bits of precision.
+  int64_t x = v.x, y = v.y, z = v.z;
+  const int64_t largest = max_of(abs64(x), max_of(abs64(y), abs64(z)));
+  if (largest == 0) return false;
+  const int shift = bit_length(uint64_t(largest)) - 21;
+  if (shift > 0) { x >>= shift; y >>= shift; z >>= shift; }
+  else if (shift < 0) { x = shift_left(x, -shift); y = shift_left(y, -shift); z = shift_left(z, -shift); }
+  const uint64_t len2 = uint64_t(x * x + y * y + z * z);   // < 3 * 2^42
+  // len with 10 extra fraction bits: sqrt(len2 << 20) = len * 2^10.
+  const int64_t len_q10 = int64_t(isqrt64(len2 << 20));
+  if (len_q10 == 0) return false;
+  // component / len in Q1.30 = (c << 40) / len_q10; |c| <= 2^21 so c << 40 < 2^62.
+  out->x = int32_t(clamp_to<int64_t>(div_round(shift_left(x, 40), len_q10), -kUnitOne, kUnitOne));
+  out->y = int32_t(clamp_to<int64_t>(div_round(shift_left(y, 40), len_q10), -kUnitOne, kUnitOne));
+  out->z = int32_t(clamp_to<int64_t>(div_round(shift_left(z, 40), len_q10), -kUnitOne, kUnitOne));
+  return true;
+}
+
+// tan(d degrees) in Q8.24 for d = 0..89.
+static const int32_t kTanTableQ24[90] = {
+0, 292847, 585873, 879257, 1173177, 1467816,
+    1763356, 2059983, 2357884, 2657250, 2958276, 3261160,
+    3566107, 3873326, 4183030, 4495441, 4810789, 5129310,
+    5451248, 5776859, 6106407, 6440170, 6778435, 7121506,
+    7469698, 7823344, 8182795, 8548419, 8920604, 9299763,
+    9686330, 10080768, 10483568, 10895251, 11316375, 11747533,
+    12189361, 12642539, 13107798, 13585922, 14077756, 14584211,
+    15106273, 15645007, 16201569, 16777216, 17373316, 17991361,
+    18632986, 19299979, 19994307, 20718136, 21473857, 22264118,
+    23091857, 23960348, 24873246, 25834647, 26849158, 27921976,
+    29058991, 30266899, 31553354, 32927140, 34398390, 35978856,
+    37682244, 39524644, 41525067, 43706142, 46095022, 48724573,
+    51634961, 54875801, 58509105, 62613423, 67289738, 72670106,
+    78930596, 86311294, 95148320, 105927173, 119376095, 136639459,
+    159624548, 191764456, 239925367, 320128352, 480436607, 961166061
+};
+
+int32_t tan_deg_q16(int32_t degrees_q16) {
+  if (degrees_q16 <= 0) return 0;
+  if (degrees_q16 >= (89 << kAngleBits)) return int32_t(kTanTableQ24[89] >> 8);  // fov is at most 170
+  const int32_t whole = degrees_q16 >> kAngleBits;
+  const int64_t frac = degrees_q16 & ((1 << kAngleBits) - 1);
+  // tan(a + b) = (tan a + tan b) / (1 - tan a tan b), with b < 1 degree: tan b = b + b^3/3 in
+  // radians is exact to 1e-9, so the result is as good as the Q24 table (relative error ~1e-6).
+  const int64_t b = (frac * 292818) >> kAngleBits;  // radians, Q24 (292818 = pi/180 in Q24)
+  const int64_t tan_b = b + ((b * b >> 24) * b >> 24) / 3;
+  const int64_t tan_a = kTanTableQ24[whole];
+  const int64_t num = tan_a + tan_b;
+  const int64_t den = (int64_t(1) << 24) - ((tan_a * tan_b) >> 24);
+  return int32_t(div_round(num << 16, den));
+}
+
+}  // namespace ml

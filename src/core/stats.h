@@ -1,0 +1,38 @@
+// Per-frame counts every render returns. The host CLI prints them as JSON (platform/host), tests and
+// benchmarks read them. Fields a renderer does not use stay 0.
+#pragma once
+#include <stdint.h>
+
+namespace ml {
+
+struct Stats {
+  // common
+  uint32_t width = 0, height = 0;
+  uint32_t samples_per_pixel = 1;      // aa * aa
+  uint32_t triangles_in = 0;           // triangles in the scene
+  uint32_t triangles_culled = 0;       // back-facing, behind the eye, off screen, degenerate, or hidden
+  uint32_t triangles_drawn = 0;        // triangles that wrote at least one pixel
+  uint64_t pixel_writes = 0;           // pixels handed to the sink (a block of n pixels counts n)
+  uint64_t sink_calls = 0;             // write_block + fill_block calls
+  uint64_t shading_calls = 0;          // colour evaluations
+  uint32_t peak_arena_bytes = 0;
+
+  // tiler
+  uint64_t cells_visited = 0;          // pyramid cells (masks) visited by tile_poly
+  uint32_t triangles_tiled = 0;        // pieces handed to tile_poly (after clipping)
+  uint32_t bsp_nodes = 0;
+  uint32_t bsp_pieces = 0;             // pieces stored in the BSP (>= triangles when some were split)
+  uint32_t pyramid_bytes = 0;
+
+  // scanline
+  uint32_t n = 0;                      // triangles in ySortList
+  uint32_t m_max = 0;                  // most triangles active on one row
+  uint64_t geometry_samples = 0;       // samples whose visible surface was resolved
+  uint64_t sort_instructions = 0;      // work units spent sorting (comparisons + moves)
+
+  // texture pager
+  uint32_t texture_bytes_loaded = 0;
+  uint32_t texture_bytes_peak = 0;
+};
+
+}  // namespace ml

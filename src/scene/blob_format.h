@@ -1,0 +1,155 @@
+// The scene blob (.mls): the one description of the format. docs/scene-blob.md explains it for
+// people; this header is what both the writer (tools/scenec) and the reader (src/scene) compile.
+//
+// Properties: little-endian; read in place (flash, mmap, buffer), never copied; position-independent
+// (all references are offsets from the blob start or indices); the base address must be 8-byte aligned
+// and every section starts at a multiple of 8. Versioned (kBlobVersion) and checksummed (CRC-32/IEEE,
+// reflected polynomial 0xEDB88320, init and final xor 0xFFFFFFFF, over bytes [16, total_size)).
+//
+// Layout:
+//   BlobHeader                      (24 bytes)
+//   SectionEntry[section_count]     (16 bytes each)
+//   sections, each 8-aligned, in any order, each type at most once
+//
+// Geometry lives in world space: the compiler applies the (nested) node transforms and normalizes the
+// scene so that its bounding box is centred on the origin and fits inside ±2^16 world units
+// (fixed.h: kWorldSceneBits). SceneInfo keeps the normalization so host tools can map glTF
+// coordinates (e.g. a --eye given by the user) into world units.
+//
+// Triangle ids: a triangle's index in the Triangles section. The compiler emits triangles nodes
+// depth-first in scene order, a mesh's primitives in order, triangles in index order (strips and fans
+// triangulated in order). Later stages keep the id, also for pieces of split triangles.
+#pragma once
+#include <stdint.h>
+
+namespace ml {
+
+constexpr uint32_t kBlobMagic = 0x43534C4D;  // "MLSC" as bytes
+constexpr uint16_t kBlobVersion = 1;
+constexpr uint32_t kNone = 0xFFFFFFFFu;      // "no index" in any u32 index field
+
+struct BlobHeader {
+  uint32_t magic;          // kBlobMagic
+  uint16_t version;        // kBlobVersion
+  uint16_t header_bytes;   // sizeof(BlobHeader)
+  uint32_t total_size;     // bytes in the blob
+  uint32_t crc32;          // of bytes [16, total_size)
+  uint32_t section_count;
+  uint32_t reserved;       // 0
+};
+static_assert(sizeof(BlobHeader) == 24, "BlobHeader layout");
+
+enum class SectionType : uint32_t {
+  Info = 1,        // one SceneInfo
+  Materials = 2,   // Material[count]
+  Batches = 3,     // Batch[count]
+  Vertices = 4,    // Vertex[count]
+  Triangles = 5,   // Triangle[count], index = triangle id
+  Nodes = 6,       // Node[count], the glTF node hierarchy (for info; geometry is already in world space)
+  BspNodes = 7,    // BspNode[count], node 0 is the root (absent or count 0: no BSP)
+  BspPieces = 8,   // BspPiece[count], referenced by BspNode ranges
+  Textures = 9,    // TextureRef[count]
+};
+
+struct SectionEntry {
+  uint32_t type;     // SectionType
+  uint32_t offset;   // from blob start, multiple of 8
+  uint32_t size;     // bytes, == count * element size
+  uint32_t count;    // elements
+};
+static_assert(sizeof(SectionEntry) == 16, "SectionEntry layout");
+
+struct SceneInfo {
+  int32_t bounds_min[3];       // world units, of every vertex
+  int32_t bounds_max[3];
+  int32_t sphere_center[3];    // bounding sphere, world units
+  int32_t sphere_radius;       // > 0
+  // Host-only metadata, raw IEEE-754 float bits that src/ never interprets:
+  //   world = (gltf - gltf_center) * gltf_to_world
+  uint32_t gltf_center_bits[3];
+  uint32_t gltf_to_world_bits;
+  uint32_t bsp_depth;          // longest root-to-leaf path in BspNodes (0 when there is no BSP)
+  uint32_t reserved;
+};
+static_assert(sizeof(SceneInfo) == 64, "SceneInfo layout");
+
+enum class AlphaMode : uint8_t { Opaque = 0, Mask = 1, Blend = 2 };
+
+struct Material {
+  uint8_t base_color[4];       // RGBA8 (glTF baseColorFactor, linear values scaled to 0..255)
+  uint32_t texture;            // index into Textures, or kNone
+  uint8_t double_sided;        // 0 or 1
+  uint8_t alpha_mode;          // AlphaMode
+  uint8_t alpha_cutoff;        // 0..255 (glTF alphaCutoff * 255), used by Mask
+  uint8_t reserved;
+};
+static_assert(sizeof(Material) == 12, "Material layout");
+
+// A batch is one glTF mesh primitive under one node, flattened to world space. Its vertices are
+// quantized to int16 over the batch's own bounding box:
+//   world = offset + (q * scale) >> 16        (scale Q16.16, one per axis, > 0)
+struct Batch {
+  uint32_t material;           // index into Materials
+  uint32_t node;               // index into Nodes
+  uint32_t first_vertex;       // range in Vertices
+  uint32_t vertex_count;
+  uint32_t first_triangle;     // range in Triangles
+  uint32_t triangle_count;
+  int32_t scale[3];            // Q16.16
+  int32_t offset[3];           // world units
+};
+static_assert(sizeof(Batch) == 48, "Batch layout");
+
+struct Vertex {
+  int16_t position[3];         // quantized, see Batch
+  int16_t normal[3];           // world space, Q1.14 unit vector; (0,0,0) if the mesh had none
+  int32_t uv[2];               // TEXCOORD_0, Q16.16; 0 if absent
+};
+static_assert(sizeof(Vertex) == 20, "Vertex layout");
+
+struct Triangle {
+  uint32_t v[3];               // indices into Vertices, inside the batch's vertex range
+  uint32_t batch;              // index into Batches
+};
+static_assert(sizeof(Triangle) == 16, "Triangle layout");
+
+struct Node {
+  uint32_t parent;             // index into Nodes or kNone for roots of the scene
+  uint32_t first_batch;        // batches of this node's mesh
+  uint32_t batch_count;
+  uint32_t reserved;
+};
+static_assert(sizeof(Node) == 16, "Node layout");
+
+// BSP tree over the scene's pieces, in world space. Plane: dot(normal, p) - d, normal Q1.30 unit
+// vector, p world units, d in world units Q?.30 (i.e. the dot product's scale). Pieces with a
+// positive value are in front. Pieces lying in the plane are listed in [first_piece, +piece_count).
+// Front-to-back for an eye E: if plane(E) >= 0 visit front, own pieces, back; else back, own, front.
+struct BspNode {
+  int32_t normal[3];           // Q1.30
+  uint32_t front;              // child index or kNone
+  int64_t d;                   // world units * 2^30
+  uint32_t back;               // child index or kNone
+  uint32_t first_piece;        // range in BspPieces
+  uint32_t piece_count;
+  uint32_t reserved;
+};
+static_assert(sizeof(BspNode) == 40, "BspNode layout");
+
+// A piece is a whole triangle or a part of one that the BSP split. Its vertices index Vertices
+// (split points are appended there by the compiler with interpolated attributes, quantized with the
+// batch of `triangle`, which need not contain them in its vertex range); `triangle` is the id of the
+// triangle it came from (its batch and material).
+struct BspPiece {
+  uint32_t v[3];
+  uint32_t triangle;
+};
+static_assert(sizeof(BspPiece) == 16, "BspPiece layout");
+
+struct TextureRef {
+  uint32_t image;              // glTF image index (texels are not stored yet)
+  uint32_t reserved;
+};
+static_assert(sizeof(TextureRef) == 8, "TextureRef layout");
+
+}  // namespace ml

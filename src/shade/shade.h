@@ -1,0 +1,74 @@
+// Shading shared by both renderers, so that the same triangle gets the same colour from either.
+// Intensities are Q8 (256 = 1.0). One directional light plus ambient, integer Lambert.
+#pragma once
+#include <stdint.h>
+
+#include "core/fixed.h"
+#include "core/sink.h"
+#include "scene/scene.h"
+#include "view/view.h"
+
+namespace ml {
+
+enum class ShadingMode : uint8_t {
+  Unlit,    // base colour
+  Flat,     // face normal, one directional light + ambient
+  Gouraud,  // vertex normals lit per vertex, colours interpolated across the triangle
+  Ids,      // pixel = triangle id + 1 (core/sink.h)
+  Lines,    // hidden-line drawing (scanline renderer)
+};
+
+struct Light {
+  Vec3i to_light;      // Q1.30 unit vector, world space, pointing towards the light
+  int32_t ambient_q8;  // added to every surface
+  int32_t diffuse_q8;  // scaled by max(0, N.L)
+};
+
+// A light over the viewer's left shoulder, so the default view shows three distinct face tones.
+Light make_light(const View& view);
+
+// Q1.30 unit normal of a world-space triangle (counter-clockwise front); zero vector if degenerate.
+Vec3i face_normal(const Vec3i world[3]);
+
+// Ambient + diffuse * max(0, N.L), Q8, for a Q1.30 normal.
+int32_t lambert_q8(const Light& light, const Vec3i& normal_q30);
+
+// base * intensity, per channel, saturated.
+Pixel modulate(const uint8_t base_rgba[4], int32_t intensity_q8);
+
+// Colours of one triangle for a shading mode. `smooth` is true when the vertex colours differ and
+// must be interpolated (Gouraud); otherwise every pixel gets `flat`.
+struct TriangleColors {
+  Pixel flat;
+  Pixel vertex[3];
+  bool smooth;
+};
+void shade_triangle(const Scene& scene, const Light& light, ShadingMode mode, uint32_t triangle_id,
+                    bool front_facing, TriangleColors* out);
+
+// A quantity linear in screen space, evaluated at pixel centres:
+//   value(px, py) = (origin + step_x * px + step_y * py) >> kPlaneBits
+// Ranges: inputs |v| < 2^16; slopes are bounded by 2^20 per pixel (exact for anything wider than
+// 1/16 pixel); inside the guard band every term stays below 2^62.
+constexpr int kPlaneBits = 20;
+struct LinearPlane {
+  int64_t origin, step_x, step_y;
+  int32_t at(int32_t px, int32_t py) const {
+    return int32_t((origin + step_x * px + step_y * py) >> kPlaneBits);
+  }
+};
+// The plane through (v[i].x, v[i].y, values[i]) of a projected triangle.
+LinearPlane make_plane(const ScreenTriangle& tri, const int32_t values[3]);
+
+// The colour of piece vertex i of a projected triangle, from the original triangle's vertex colours
+// and the piece vertex's barycentric weights.
+Pixel blend_vertex_color(const TriangleColors& colors, const ScreenVertex& v);
+
+// Red, green and blue planes of a smooth triangle piece (the renderer evaluates them per pixel).
+struct ColorPlanes {
+  LinearPlane channel[3];
+  Pixel at(int32_t px, int32_t py) const;
+};
+void make_color_planes(const ScreenTriangle& piece, const TriangleColors& colors, ColorPlanes* out);
+
+}  // namespace ml

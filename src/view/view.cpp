@@ -1,0 +1,224 @@
+#include "view/view.h"
+
+namespace ml {
+namespace {
+
+Vec3i cross_q30(const Vec3i& a, const Vec3i& b) {
+  // Both inputs Q1.30 unit vectors: each product < 2^60, the result Q1.30.
+  return Vec3i{int32_t(shift_round(int64_t(a.y) * b.z - int64_t(a.z) * b.y, kUnitBits)),
+               int32_t(shift_round(int64_t(a.z) * b.x - int64_t(a.x) * b.z, kUnitBits)),
+               int32_t(shift_round(int64_t(a.x) * b.y - int64_t(a.y) * b.x, kUnitBits))};
+}
+
+bool in_world_range(const Vec3i& v) {
+  return abs32(v.x) < kWorldLimit && abs32(v.y) < kWorldLimit && abs32(v.z) < kWorldLimit;
+}
+
+// A vertex during clipping: view-space position plus barycentric weights of the original triangle.
+struct ClipVertex {
+  Vec3i p;
+  int32_t weight[3];
+};
+
+// Signed distance of a view-space point to one clip plane (>= 0 inside), int64 (< 2^58).
+enum ClipPlane { kNear, kLeft, kRight, kTop, kBottom, kPlaneCount };
+
+int64_t plane_distance(const View& view, ClipPlane plane, const Vec3i& p) {
+  const int64_t guard = int64_t(kGuardBandPixels) << kSubpixelBits;  // subpixels from the centre
+  switch (plane) {
+    case kNear: return int64_t(p.z) - view.near;
+    case kLeft: return guard * p.z + view.focal_q8 * p.x;
+    case kRight: return guard * p.z - view.focal_q8 * p.x;
+    case kTop: return guard * p.z + view.focal_q8 * p.y;
+    default: return guard * p.z - view.focal_q8 * p.y;
+  }
+}
+
+// Lexicographic order on positions: intersections are computed from the smaller endpoint so both
+// triangles sharing an edge produce the same point.
+bool position_less(const Vec3i& a, const Vec3i& b) {
+  if (a.x != b.x) return a.x < b.x;
+  if (a.y != b.y) return a.y < b.y;
+  return a.z < b.z;
+}
+
+ClipVertex intersect(const View& view, ClipPlane plane, const ClipVertex& in_a, const ClipVertex& in_b) {
+  const bool swap = position_less(in_b.p, in_a.p);
+  const ClipVertex& a = swap ? in_b : in_a;
+  const ClipVertex& b = swap ? in_a : in_b;
+  int64_t num = plane_distance(view, plane, a.p);
+  int64_t den = num - plane_distance(view, plane, b.p);  // signs differ, so |den| >= |num| and den != 0
+  // Keep den below 2^31 so that num << 30 fits; t = num / den in Q1.30, within [0, 1]. Endpoint
+  // differences are below 2^31, so (b - a) * t stays below 2^61.
+  while (abs64(den) >= (int64_t(1) << 31)) { num /= 2; den /= 2; }
+  const int64_t t = div_round(shift_left(num, kUnitBits), den);
+  ClipVertex out;
+  out.p.x = int32_t(a.p.x + mul_shift(int64_t(b.p.x) - a.p.x, t, kUnitBits));
+  out.p.y = int32_t(a.p.y + mul_shift(int64_t(b.p.y) - a.p.y, t, kUnitBits));
+  out.p.z = int32_t(a.p.z + mul_shift(int64_t(b.p.z) - a.p.z, t, kUnitBits));
+  if (plane == kNear) out.p.z = view.near;  // exactly on the plane, never a hair behind it
+  for (int k = 0; k < 3; ++k)
+    out.weight[k] = int32_t(a.weight[k] + mul_shift(int64_t(b.weight[k]) - a.weight[k], t, kUnitBits));
+  return out;
+}
+
+// Sutherland–Hodgman against one plane. Polygons have at most 3 + kPlaneCount vertices.
+constexpr int kMaxPolygon = 3 + kPlaneCount;
+
+int clip_polygon(const View& view, ClipPlane plane, const ClipVertex* in, int count, ClipVertex* out) {
+  int n = 0;
+  for (int i = 0; i < count; ++i) {
+    const ClipVertex& cur = in[i];
+    const ClipVertex& next = in[(i + 1) % count];
+    const bool cur_in = plane_distance(view, plane, cur.p) >= 0;
+    const bool next_in = plane_distance(view, plane, next.p) >= 0;
+    if (cur_in) out[n++] = cur;
+    if (cur_in != next_in) out[n++] = intersect(view, plane, cur, next);
+  }
+  return n;
+}
+
+ScreenVertex project(const View& view, const ClipVertex& c) {
+  ScreenVertex s;
+  s.x = int32_t(view.center_x + div_round(view.focal_q8 * c.p.x, c.p.z));
+  s.y = int32_t(view.center_y + div_round(view.focal_q8 * c.p.y, c.p.z));
+  s.z = c.p.z;
+  s.depth = uint32_t((int64_t(view.near) << kDepthBits) / c.p.z);
+  for (int k = 0; k < 3; ++k) s.weight[k] = c.weight[k];
+  return s;
+}
+
+int64_t signed_area2(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c) {
+  return (int64_t(b.x) - a.x) * (int64_t(c.y) - a.y) - (int64_t(c.x) - a.x) * (int64_t(b.y) - a.y);
+}
+
+}  // namespace
+
+Status make_view(const Camera& camera, View* out) {
+  if (camera.width < 1 || camera.height < 1 || camera.width > kMaxScreenDim || camera.height > kMaxScreenDim)
+    return error(StatusCode::InvalidArgument, "screen size must be 1..4096 per side");
+  if (camera.fov_deg_q16 < (1 << kAngleBits) || camera.fov_deg_q16 > (170 << kAngleBits))
+    return error(StatusCode::InvalidArgument, "field of view must be 1..170 degrees");
+  if (camera.near <= 0 || camera.near >= (1 << (kViewLimitBits - kViewFractionBits)))
+    return error(StatusCode::InvalidArgument, "near plane must be positive and below 2^26 world units");
+  if (!in_world_range(camera.eye) || !in_world_range(camera.target))
+    return error(StatusCode::InvalidArgument, "camera eye or target outside the world range");
+  const Vec3i look{camera.target.x - camera.eye.x, camera.target.y - camera.eye.y, camera.target.z - camera.eye.z};
+  View v;
+  if (!normalize_q30(look, &v.forward))
+    return error(StatusCode::InvalidArgument, "camera target equals eye");
+  Vec3i up;
+  if (!normalize_q30(camera.up, &up)) return error(StatusCode::InvalidArgument, "camera up is zero");
+  const Vec3i side = cross_q30(v.forward, up);
+  // |side| = sin(angle between forward and up); below ~0.001 the basis would be meaningless.
+  if (dot64(side, side) < (int64_t(1) << 40))
+    return error(StatusCode::InvalidArgument, "camera up is parallel to the view direction");
+  normalize_q30(side, &v.right);
+  normalize_q30(cross_q30(v.forward, v.right), &v.down);
+  v.eye = camera.eye;
+  v.near = camera.near << kViewFractionBits;
+  const int64_t tan_half = tan_deg_q16(camera.fov_deg_q16 / 2);
+  // focal length (pixels) = (height / 2) / tan(fov / 2); in 1/256 pixel.
+  v.focal_q8 = div_round((int64_t(camera.height) << (kSubpixelBits - 1)) << kAngleBits, tan_half);
+  v.center_x = camera.width << (kSubpixelBits - 1);
+  v.center_y = camera.height << (kSubpixelBits - 1);
+  v.width = camera.width;
+  v.height = camera.height;
+  *out = v;
+  return ok_status();
+}
+
+Camera frame_sphere(const Vec3i& center, int32_t radius, int width, int height, int32_t fov_deg_q16) {
+  Camera c;
+  c.width = width;
+  c.height = height;
+  c.fov_deg_q16 = fov_deg_q16;
+  // The narrower of the two half-angles must hold the sphere: tan_h = tan_v * min(1, width / height).
+  int64_t tan_half = tan_deg_q16(fov_deg_q16 / 2);
+  if (width < height) tan_half = tan_half * width / height;
+  if (tan_half < 1) tan_half = 1;
+  // sin = tan / sqrt(1 + tan^2), Q16.
+  const int64_t sin_half = div_round(tan_half << 16, int64_t(isqrt64(uint64_t((int64_t(1) << 32) + tan_half * tan_half))));
+  const int64_t distance = div_round(int64_t(radius) * 69 * 1024, max_of<int64_t>(sin_half, 1));  // 1.05 * r / sin
+  // A three-quarter view from the front, right and above (glTF: +y up, models face +z).
+  Vec3i dir;
+  normalize_q30(Vec3i{5, 3, 8}, &dir);
+  c.eye = Vec3i{int32_t(center.x + mul_shift(dir.x, distance, kUnitBits)),
+                int32_t(center.y + mul_shift(dir.y, distance, kUnitBits)),
+                int32_t(center.z + mul_shift(dir.z, distance, kUnitBits))};
+  c.target = center;
+  c.up = Vec3i{0, 1, 0};
+  c.near = int32_t(max_of<int64_t>(16, (distance - radius) / 2));
+  return c;
+}
+
+int project_triangle(const View& view, const Vec3i world[3], ScreenTriangle out[kMaxClipTriangles]) {
+  ClipVertex buffers[2][kMaxPolygon];
+  ClipVertex* poly = buffers[0];
+  for (int i = 0; i < 3; ++i) {
+    const Vec3i d{world[i].x - view.eye.x, world[i].y - view.eye.y, world[i].z - view.eye.z};
+    // |d| < 2^25, so each dot product is below 2^56; the result keeps kViewFractionBits.
+    constexpr int shift = kUnitBits - kViewFractionBits;
+    poly[i].p = Vec3i{int32_t(shift_round(dot64(view.right, d), shift)),
+                      int32_t(shift_round(dot64(view.down, d), shift)),
+                      int32_t(shift_round(dot64(view.forward, d), shift))};
+    for (int k = 0; k < 3; ++k) poly[i].weight[k] = (i == k) ? kWeightOne : 0;
+  }
+  int count = 3;
+  for (int plane = 0; plane < kPlaneCount && count > 0; ++plane) {
+    int inside = 0;
+    for (int i = 0; i < count; ++i) inside += plane_distance(view, ClipPlane(plane), poly[i].p) >= 0;
+    if (inside == count) continue;  // the common case: nothing to clip
+    ClipVertex* next = (poly == buffers[0]) ? buffers[1] : buffers[0];
+    count = inside == 0 ? 0 : clip_polygon(view, ClipPlane(plane), poly, count, next);
+    poly = next;
+  }
+  if (count < 3) return 0;
+
+  ScreenVertex projected[kMaxPolygon];
+  for (int i = 0; i < count; ++i) projected[i] = project(view, poly[i]);
+
+  int n = 0;
+  for (int i = 1; i + 1 < count; ++i) {
+    ScreenTriangle& t = out[n];
+    t.v[0] = projected[0];
+    t.v[1] = projected[i];
+    t.v[2] = projected[i + 1];
+    const int64_t area2 = signed_area2(t.v[0], t.v[1], t.v[2]);
+    if (area2 == 0) continue;
+    // Counter-clockwise as seen by the viewer is a negative area in y-down coordinates.
+    t.front_facing = area2 < 0;
+    if (area2 < 0) {
+      const ScreenVertex tmp = t.v[1];
+      t.v[1] = t.v[2];
+      t.v[2] = tmp;
+    }
+    t.area2 = area2 < 0 ? -area2 : area2;
+    ++n;
+  }
+  return n;
+}
+
+void setup_triangle(const ScreenTriangle& tri, int width, int height, TriangleSetup* out) {
+  int32_t min_x = tri.v[0].x, max_x = tri.v[0].x, min_y = tri.v[0].y, max_y = tri.v[0].y;
+  for (int i = 0; i < 3; ++i) {
+    const ScreenVertex& p = tri.v[i];
+    const ScreenVertex& q = tri.v[(i + 1) % 3];
+    EdgeFunction& e = out->edge[i];
+    e.a = int64_t(p.y) - q.y;
+    e.b = int64_t(q.x) - p.x;
+    e.c = -(e.a * p.x + e.b * p.y);
+    const bool top_left = e.a > 0 || (e.a == 0 && e.b > 0);
+    if (!top_left) e.c -= 1;  // E == 0 on this edge is outside
+    min_x = min_of(min_x, p.x); max_x = max_of(max_x, p.x);
+    min_y = min_of(min_y, p.y); max_y = max_of(max_y, p.y);
+  }
+  // Pixel centres px*256+128 inside [min, max]: px >= ceil((min-128)/256), px <= floor((max-128)/256).
+  const int64_t one = kSubpixelOne;
+  out->min_x = int32_t(max_of<int64_t>(0, -div_floor(-(int64_t(min_x) - kSubpixelHalf), one)));
+  out->min_y = int32_t(max_of<int64_t>(0, -div_floor(-(int64_t(min_y) - kSubpixelHalf), one)));
+  out->max_x = int32_t(min_of<int64_t>(width - 1, div_floor(int64_t(max_x) - kSubpixelHalf, one)));
+  out->max_y = int32_t(min_of<int64_t>(height - 1, div_floor(int64_t(max_y) - kSubpixelHalf, one)));
+}
+
+}  // namespace ml

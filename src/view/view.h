@@ -1,0 +1,98 @@
+// The view pipeline: camera → view space → near-plane and guard-band clipping → screen coordinates
+// with subpixel precision → integer edge functions with the top-left fill rule.
+//
+// Conventions (written down once, here):
+// - Screen: pixel (x, y) covers [x, x+1) x [y, y+1), x to the right, y downwards. Screen coordinates
+//   are in subpixels (1/256 pixel, core/fixed.h). A point-sampled pixel samples its centre,
+//   (x * 256 + 128, y * 256 + 128).
+// - View space: x right, y down, z forward (away from the eye), in 1/16 world unit (kViewFractionBits).
+// - Orientation: glTF front faces are counter-clockwise seen from the front. After projection a
+//   triangle is handed on with its vertices ordered so that area2 > 0 (y-down screen), i.e. all edge
+//   functions are positive inside; `front_facing` says whether that ordering was the original one.
+// - Edge function of the edge P→Q: E(p) = (Q.x-P.x)(p.y-P.y) - (Q.y-P.y)(p.x-P.x) = a p.x + b p.y + c.
+// - Fill rule (top-left): a sample exactly on an edge (E == 0) is covered only if the edge is a left
+//   edge (a > 0) or a top edge (a == 0 and b > 0). EdgeFunction::c has the rule folded in (it is one
+//   smaller for edges that are neither), so "covered" is simply E >= 0 for all three edges. Two
+//   triangles sharing an edge therefore never both cover a sample on it, and never both miss one.
+#pragma once
+#include <stdint.h>
+
+#include "core/fixed.h"
+#include "core/status.h"
+
+namespace ml {
+
+struct Camera {
+  Vec3i eye{0, 0, 0};           // world units, |c| < kWorldLimit
+  Vec3i target{0, 0, -1};       // world units, != eye
+  Vec3i up{0, 1, 0};            // any length, not parallel to target - eye
+  int32_t fov_deg_q16 = 45 << 16;  // vertical field of view, [1, 170] degrees
+  int32_t near = 1;             // near plane distance, world units, > 0
+  int width = 0, height = 0;    // screen in pixels (or samples, when a renderer oversamples), 1..kMaxScreenDim
+};
+
+struct View {
+  Vec3i eye;
+  Vec3i right, down, forward;   // Q1.30 rows of the world→view rotation
+  int32_t near;                 // view units (1/16 world unit)
+  int64_t focal_q8;             // focal length in 1/256 pixel per unit of x/z
+  int32_t center_x, center_y;   // screen centre in subpixels
+  int width, height;
+};
+
+// Builds the view; InvalidArgument for an out-of-range camera (message says which field).
+Status make_view(const Camera& camera, View* out);
+
+// A camera that frames a bounding sphere (world units) from a pleasant three-quarter view.
+Camera frame_sphere(const Vec3i& center, int32_t radius, int width, int height, int32_t fov_deg_q16);
+
+struct ScreenVertex {
+  int32_t x, y;       // subpixels
+  int32_t z;          // view-space depth, view units (1/16 world unit), >= near
+  uint32_t depth;     // near * 2^30 / z (core/fixed.h), larger = nearer
+  int32_t weight[3];  // barycentric weights Q16 with respect to the original triangle's vertices 0,1,2
+};
+
+struct ScreenTriangle {
+  ScreenVertex v[3];  // ordered so that area2 > 0
+  int64_t area2;      // twice the signed area, subpixels^2, > 0
+  bool front_facing;  // the original vertex order faced the eye
+};
+
+// Most triangles one input triangle becomes after clipping (near plane + four guard-band planes).
+constexpr int kMaxClipTriangles = 6;
+
+// Transforms a world-space triangle, clips it, projects it and orders it. Writes up to
+// kMaxClipTriangles triangles to out and returns how many. Triangles wholly behind the near plane,
+// outside the guard band or degenerate (area2 == 0 after snapping) give 0. Back faces are returned
+// with front_facing == false: culling is the caller's choice (it depends on the material).
+// Intersection points are computed from the edge's endpoints in a canonical order, so two triangles
+// sharing an edge get identical clipped vertices (watertight).
+int project_triangle(const View& view, const Vec3i world[3], ScreenTriangle out[kMaxClipTriangles]);
+
+struct EdgeFunction {
+  int64_t a, b, c;    // E(x, y) = a x + b y + c, x and y in subpixels, fill rule folded into c
+  int64_t at(int64_t x, int64_t y) const { return a * x + b * y + c; }
+};
+
+struct TriangleSetup {
+  EdgeFunction edge[3];
+  // Pixel bounding box of the samples that can be covered, clipped to the screen, inclusive.
+  // Empty (min > max) when no pixel centre can be covered.
+  int32_t min_x, min_y, max_x, max_y;
+};
+
+// Edge functions and bounding box of a projected triangle on a width x height screen.
+void setup_triangle(const ScreenTriangle& tri, int width, int height, TriangleSetup* out);
+
+inline bool covers_point(const TriangleSetup& s, int64_t x, int64_t y) {
+  return s.edge[0].at(x, y) >= 0 && s.edge[1].at(x, y) >= 0 && s.edge[2].at(x, y) >= 0;
+}
+
+// Whether the triangle covers the centre of pixel (px, py).
+inline bool covers_pixel(const TriangleSetup& s, int32_t px, int32_t py) {
+  return covers_point(s, int64_t(px) * kSubpixelOne + kSubpixelHalf,
+                      int64_t(py) * kSubpixelOne + kSubpixelHalf);
+}
+
+}  // namespace ml

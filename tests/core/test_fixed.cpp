@@ -1,0 +1,125 @@
+// Property tests of the fixed-point core (src/core/fixed.h) against double math.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+
+#include "core/arena.h"
+#include "core/fixed.h"
+
+namespace {
+
+using ml::Vec3i;
+
+TEST(FixedIsqrt, MatchesFloorSqrtOnRandomAndExtremeInputs) {
+  std::mt19937_64 rng(7);
+  std::vector<uint64_t> inputs = {0, 1, 2, 3, 4, 15, 16, 17, UINT64_MAX, UINT64_MAX - 1,
+                                  uint64_t(1) << 62, (uint64_t(1) << 62) - 1, uint64_t(4294967295u) * 4294967295u};
+  for (int i = 0; i < 20000; ++i) inputs.push_back(rng() >> (rng() % 64));
+  for (uint64_t r = 1; r < 100000; r += 97) { inputs.push_back(r * r); inputs.push_back(r * r - 1); }
+  for (uint64_t v : inputs) {
+    const uint64_t s = ml::isqrt64(v);
+    // floor(sqrt(v)): s^2 <= v < (s+1)^2, checked without overflow in long double-free integer math.
+    ASSERT_LE(s, 4294967295u) << v;
+    ASSERT_LE(s * s, v) << v;
+    const unsigned __int128 next = (unsigned __int128)(s + 1) * (s + 1);
+    ASSERT_GT(next, (unsigned __int128)v) << v;
+  }
+}
+
+TEST(FixedArithmetic, ShiftsAndDivisionsRoundLikeDouble) {
+  std::mt19937_64 rng(11);
+  for (int i = 0; i < 50000; ++i) {
+    const int64_t a = int64_t(rng() >> 34) - (int64_t(1) << 29);   // |a| < 2^30
+    const int64_t b = int64_t(rng() >> 31) - (int64_t(1) << 32);   // |b| < 2^33
+    const int s = 1 + int(rng() % 40);
+    const long double exact = (long double)a * b / std::ldexp(1.0L, s);
+    EXPECT_LE(std::fabs((long double)ml::mul_shift(a, b, s) - exact), 0.5L) << a << " " << b << " " << s;
+    const int64_t d = (b == 0) ? 1 : b;
+    const long double q = (long double)(a * 1048576) / d;
+    EXPECT_LE(std::fabs((long double)ml::div_round(a * 1048576, d) - q), 0.5L);
+    if (d > 0) { EXPECT_EQ(ml::div_floor(a, d), (int64_t)std::floor((long double)a / d)); }
+  }
+  EXPECT_EQ(ml::div_round(5, 2), 3);
+  EXPECT_EQ(ml::div_round(-5, 2), -3);
+  EXPECT_EQ(ml::div_round(5, -2), -3);
+  EXPECT_EQ(ml::div_floor(-1, 256), -1);
+  EXPECT_EQ(ml::div_floor(-256, 256), -1);
+  EXPECT_EQ(ml::reciprocal(3, 30), 357913941);
+  EXPECT_EQ(ml::shift_round(INT64_MAX / 2, 62), 1);
+}
+
+TEST(FixedNormalize, UnitLengthAndDirectionForAnyMagnitude) {
+  std::mt19937_64 rng(3);
+  for (int i = 0; i < 20000; ++i) {
+    const int mag = int(rng() % 31);
+    auto comp = [&] { return int32_t(int64_t(rng() % (uint64_t(2) << mag)) - (int64_t(1) << mag)); };
+    Vec3i v{comp(), comp(), comp()};
+    if (i % 97 == 0) v = Vec3i{INT32_MAX, INT32_MIN + 1, INT32_MAX};
+    Vec3i n;
+    const bool ok = ml::normalize_q30(v, &n);
+    if (v.x == 0 && v.y == 0 && v.z == 0) { EXPECT_FALSE(ok); continue; }
+    ASSERT_TRUE(ok);
+    const double len = std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
+    const double one = double(ml::kUnitOne);
+    EXPECT_NEAR(n.x / one, v.x / len, 4e-6);
+    EXPECT_NEAR(n.y / one, v.y / len, 4e-6);
+    EXPECT_NEAR(n.z / one, v.z / len, 4e-6);
+  }
+  Vec3i n;
+  EXPECT_FALSE(ml::normalize_q30(Vec3i{0, 0, 0}, &n));
+}
+
+TEST(FixedNewton, TwoStepsRenormalizeInterpolatedNormals) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> angle(0, 6.283185307179586), len_dist(0.85, 1.15), z(-1, 1);
+  for (int i = 0; i < 20000; ++i) {
+    const double zz = z(rng), a = angle(rng), r = std::sqrt(1 - zz * zz), len = len_dist(rng);
+    Vec3i v{int32_t(std::lround(r * std::cos(a) * len * ml::kNormalOne)),
+            int32_t(std::lround(r * std::sin(a) * len * ml::kNormalOne)), int32_t(std::lround(zz * len * ml::kNormalOne))};
+    Vec3i once = ml::newton_renormalize_q14(v);
+    Vec3i twice = ml::newton_renormalize_q14(once);
+    const double l1 = std::sqrt(double(ml::dot64(once, once))) / ml::kNormalOne;
+    const double l2 = std::sqrt(double(ml::dot64(twice, twice))) / ml::kNormalOne;
+    EXPECT_LT(std::fabs(l2 - 1), std::fabs(len - 1) + 1e-4);
+    EXPECT_LT(std::fabs(l2 - 1), 2.5e-3) << len;
+    if (std::fabs(len - 1) < 0.05) { EXPECT_LT(std::fabs(l2 - 1), 4.0 / ml::kNormalOne) << len; }
+    // Direction is kept.
+    const double dl = std::sqrt(double(ml::dot64(v, v)));
+    EXPECT_NEAR(twice.x / (l2 * ml::kNormalOne), v.x / dl, 4e-4);
+    (void)l1;
+  }
+}
+
+TEST(FixedTan, TableInterpolationMatchesTan) {
+  for (int32_t deg_q16 = 0; deg_q16 < (89 << 16); deg_q16 += 977) {
+    const double deg = deg_q16 / 65536.0;
+    const double expect = std::tan(deg * 3.14159265358979323846 / 180) * 65536;
+    EXPECT_NEAR(ml::tan_deg_q16(deg_q16), expect, std::max(1.0, expect * 1e-5)) << deg;
+  }
+  EXPECT_EQ(ml::tan_deg_q16(-5), 0);
+  EXPECT_GT(ml::tan_deg_q16(89 << 16), ml::tan_deg_q16(88 << 16));
+}
+
+TEST(ArenaAllocation, AlignsTracksPeakAndReportsNeed) {
+  alignas(16) uint8_t buffer[256];
+  ml::Arena arena(buffer + 1, 200);  // deliberately misaligned base
+  void* a = arena.allocate(10, 8);
+  ASSERT_NE(a, nullptr);
+  EXPECT_EQ(reinterpret_cast<uintptr_t>(a) % 8, 0u);
+  const size_t mark = arena.mark();
+  void* b = arena.allocate(100, 16);
+  ASSERT_NE(b, nullptr);
+  EXPECT_EQ(reinterpret_cast<uintptr_t>(b) % 16, 0u);
+  const size_t peak = arena.peak();
+  arena.release_to(mark);
+  EXPECT_EQ(arena.peak(), peak);
+  EXPECT_EQ(arena.allocate(500, 8), nullptr);
+  EXPECT_GE(arena.failed_need(), 500u + mark);
+  EXPECT_LE(arena.failed_need(), 500u + mark + 7);
+  EXPECT_EQ(arena.used(), mark);
+}
+
+}  // namespace

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Installs, with apt, the Debian packages that maskline's build, tests and demo need and that are missing.
+# Safe to run again: it installs nothing when everything is present. Prints what it installs.
+set -eu
+
+packages=(
+  g++ make pkg-config
+  libgtest-dev          # unit and property tests
+  libtinygltf-dev       # scene compiler (glTF 2.0 reader)
+  nlohmann-json3-dev    # tinygltf's JSON parser
+  libstb-dev            # tinygltf's image decoder
+  libpng-dev            # PNG sink
+  libgpiod-dev          # SPI panel reset/data-command lines
+  assimp-testmodels     # real glTF 2.0 inputs, good and broken
+  valgrind              # instruction counts for benchmarks
+  clang                 # libFuzzer target for the blob reader
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "bootstrap: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+echo "bootstrap: installing ${missing[*]}"
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "bootstrap: installed ${#missing[@]} package(s)"
