@@ -125,6 +125,14 @@ static_assert(sizeof(Node) == 16, "Node layout");
 // vector, p world units, d in world units Q?.30 (i.e. the dot product's scale). Pieces with a
 // positive value are in front. Pieces lying in the plane are listed in [first_piece, +piece_count).
 // Front-to-back for an eye E: if plane(E) >= 0 visit front, own pieces, back; else back, own, front.
+// Layout (checked by read_scene): nodes are stored breadth-first — reading every node's child references
+// in node order, front before back, gives exactly 1, 2, ..., count-1 — and node i's pieces directly
+// follow node i-1's, covering BspPieces. info.bsp_depth >= the number of nodes on the longest path.
+// Subtree bounds (for occlusion culling of whole subtrees): bounds_min/max is the world-space box of
+// every piece vertex in the node's subtree (its own pieces and all descendants'), each vertex taken
+// as the renderer sees it (vertex_world with the piece's triangle's batch); a child's box lies inside
+// its parent's. An empty subtree (no pieces) may hold any box with min <= max. subtree_pieces =
+// piece_count + the children's subtree_pieces.
 struct BspNode {
   int32_t normal[3];           // Q1.30
   uint32_t front;              // child index or kNone
@@ -132,9 +140,11 @@ struct BspNode {
   uint32_t back;               // child index or kNone
   uint32_t first_piece;        // range in BspPieces
   uint32_t piece_count;
-  uint32_t reserved;
+  uint32_t subtree_pieces;     // pieces in the subtree
+  int32_t bounds_min[3];       // world units, inclusive
+  int32_t bounds_max[3];
 };
-static_assert(sizeof(BspNode) == 40, "BspNode layout");
+static_assert(sizeof(BspNode) == 64, "BspNode layout");
 
 // A piece is a whole triangle or a part of one that the BSP split. Its vertices index Vertices
 // (split points are appended there by the compiler with interpolated attributes, quantized with the

@@ -1,0 +1,313 @@
+// The validating scene-blob reader. Every check runs before *out is filled; every access below is
+// preceded by the bounds check that makes it safe. No heap, no float, no recursion.
+#include "scene/scene.h"
+
+namespace ml {
+namespace {
+
+// ---- CRC-32 (IEEE, reflected, zlib-compatible), table built at compile time --------------------
+
+struct CrcTable {
+  uint32_t entry[256];
+  constexpr CrcTable() : entry{} {
+    for (uint32_t i = 0; i < 256; ++i) {
+      uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1u) ? (0xEDB88320u ^ (c >> 1)) : (c >> 1);
+      entry[i] = c;
+    }
+  }
+};
+constexpr CrcTable kCrcTable;
+
+// ---- helpers -------------------------------------------------------------------------------------
+
+constexpr uint32_t kSectionTypeCount = 9;      // SectionType values are 1..9
+constexpr int32_t kWorldPositionLimit = 1 << 18;  // |dequantized position| < 2^18
+constexpr int32_t kSceneLimit = 1 << 18;          // bounds and sphere centre
+constexpr int32_t kRadiusLimit = 1 << 20;
+constexpr int64_t kPlaneOffsetLimit = int64_t(1) << 50;
+
+uint32_t element_size(uint32_t type) {
+  switch (static_cast<SectionType>(type)) {
+    case SectionType::Info: return sizeof(SceneInfo);
+    case SectionType::Materials: return sizeof(Material);
+    case SectionType::Batches: return sizeof(Batch);
+    case SectionType::Vertices: return sizeof(Vertex);
+    case SectionType::Triangles: return sizeof(Triangle);
+    case SectionType::Nodes: return sizeof(Node);
+    case SectionType::BspNodes: return sizeof(BspNode);
+    case SectionType::BspPieces: return sizeof(BspPiece);
+    case SectionType::Textures: return sizeof(TextureRef);
+  }
+  return 0;
+}
+
+// [first, first + count) inside [0, limit), without overflow.
+bool range_ok(uint32_t first, uint32_t count, uint32_t limit) {
+  return uint64_t(first) + uint64_t(count) <= uint64_t(limit);
+}
+
+bool in_limit(int32_t v, int32_t limit) { return v > -limit && v < limit; }
+
+Status bad(const char* message) { return error(StatusCode::BadScene, message); }
+
+struct Sections {
+  const SectionEntry* entry[kSectionTypeCount + 1] = {};
+};
+
+template <typename T>
+const T* section_data(const uint8_t* base, const SectionEntry* e, uint32_t* count) {
+  if (e == nullptr) {
+    *count = 0;
+    return nullptr;
+  }
+  *count = e->count;
+  return e->count ? reinterpret_cast<const T*>(base + e->offset) : nullptr;
+}
+
+Status check_header(const uint8_t* base, size_t size, const BlobHeader** header_out) {
+  if (base == nullptr) return bad("blob is null");
+  if (size < sizeof(BlobHeader)) return bad("blob too small for header");
+  if ((reinterpret_cast<uintptr_t>(base) & 7u) != 0) return bad("blob base not 8-byte aligned");
+  const BlobHeader* h = reinterpret_cast<const BlobHeader*>(base);
+  if (h->magic != kBlobMagic) return bad("bad magic");
+  if (h->version != kBlobVersion) return bad("unsupported blob version");
+  if (h->header_bytes != sizeof(BlobHeader)) return bad("bad header size");
+  if (uint64_t(h->total_size) != uint64_t(size)) return bad("total size does not match blob size");
+  if (crc32(base + 16, size - 16) != h->crc32) return bad("crc mismatch");
+  if (h->reserved != 0) return bad("header reserved field not zero");
+  *header_out = h;
+  return ok_status();
+}
+
+Status check_sections(const uint8_t* base, const BlobHeader& h, Sections* s) {
+  const uint64_t table_end = uint64_t(sizeof(BlobHeader)) + uint64_t(h.section_count) * sizeof(SectionEntry);
+  if (table_end > h.total_size) return bad("section table outside blob");
+  const SectionEntry* table = reinterpret_cast<const SectionEntry*>(base + sizeof(BlobHeader));
+  for (uint32_t i = 0; i < h.section_count; ++i) {
+    const SectionEntry& e = table[i];
+    if (e.type == 0 || e.type > kSectionTypeCount) return bad("unknown section type");
+    if (s->entry[e.type] != nullptr) return bad("duplicate section");
+    if ((e.offset & 7u) != 0) return bad("section not 8-byte aligned");
+    if (uint64_t(e.offset) < table_end || uint64_t(e.offset) + e.size > h.total_size) {
+      return bad("section outside blob");
+    }
+    if (uint64_t(e.count) * element_size(e.type) != e.size) return bad("section size does not match count");
+    s->entry[e.type] = &e;
+  }
+  // Pairwise overlap (at most nine sections).
+  for (uint32_t a = 1; a <= kSectionTypeCount; ++a) {
+    const SectionEntry* ea = s->entry[a];
+    if (ea == nullptr || ea->size == 0) continue;
+    for (uint32_t b = a + 1; b <= kSectionTypeCount; ++b) {
+      const SectionEntry* eb = s->entry[b];
+      if (eb == nullptr || eb->size == 0) continue;
+      const uint64_t a0 = ea->offset, a1 = a0 + ea->size, b0 = eb->offset, b1 = b0 + eb->size;
+      if (a0 < b1 && b0 < a1) return bad("sections overlap");
+    }
+  }
+  if (s->entry[uint32_t(SectionType::Info)] == nullptr) return bad("missing info section");
+  if (s->entry[uint32_t(SectionType::Materials)] == nullptr) return bad("missing materials section");
+  if (s->entry[uint32_t(SectionType::Batches)] == nullptr) return bad("missing batches section");
+  if (s->entry[uint32_t(SectionType::Vertices)] == nullptr) return bad("missing vertices section");
+  if (s->entry[uint32_t(SectionType::Triangles)] == nullptr) return bad("missing triangles section");
+  if (s->entry[uint32_t(SectionType::Info)]->count != 1) return bad("info section must hold one entry");
+  return ok_status();
+}
+
+Status check_info(const SceneInfo& info) {
+  for (int a = 0; a < 3; ++a) {
+    if (info.bounds_min[a] > info.bounds_max[a]) return bad("scene bounds min above max");
+    if (!in_limit(info.bounds_min[a], kSceneLimit) || !in_limit(info.bounds_max[a], kSceneLimit)) {
+      return bad("scene bounds out of range");
+    }
+    if (!in_limit(info.sphere_center[a], kSceneLimit)) return bad("bounding sphere centre out of range");
+  }
+  if (info.sphere_radius <= 0) return bad("sphere radius not positive");
+  if (info.sphere_radius >= kRadiusLimit) return bad("sphere radius out of range");
+  if (info.bsp_depth > kMaxBspDepth) return bad("bsp depth above limit");
+  return ok_status();
+}
+
+Status check_materials(const Scene& s) {
+  for (uint32_t i = 0; i < s.material_count; ++i) {
+    const Material& m = s.materials[i];
+    if (m.texture != kNone && m.texture >= s.texture_count) return bad("material texture index out of range");
+    if (m.double_sided > 1) return bad("material double_sided not 0 or 1");
+    if (m.alpha_mode > uint8_t(AlphaMode::Blend)) return bad("material alpha mode invalid");
+  }
+  return ok_status();
+}
+
+Status check_nodes(const Scene& s) {
+  for (uint32_t i = 0; i < s.node_count; ++i) {
+    const Node& n = s.nodes[i];
+    if (n.parent != kNone && n.parent >= i) return bad("node parent not before node");
+    if (!range_ok(n.first_batch, n.batch_count, s.batch_count)) return bad("node batch range out of range");
+  }
+  return ok_status();
+}
+
+Status check_batches(const Scene& s) {
+  for (uint32_t i = 0; i < s.batch_count; ++i) {
+    const Batch& b = s.batches[i];
+    if (b.material >= s.material_count) return bad("batch material index out of range");
+    if (b.node != kNone) {
+      if (b.node >= s.node_count) return bad("batch node index out of range");
+      const Node& n = s.nodes[b.node];
+      if (i < n.first_batch || i - n.first_batch >= n.batch_count) return bad("batch outside its node's batch range");
+    }
+    if (!range_ok(b.first_vertex, b.vertex_count, s.vertex_count)) return bad("batch vertex range out of range");
+    if (!range_ok(b.first_triangle, b.triangle_count, s.triangle_count)) return bad("batch triangle range out of range");
+    for (int a = 0; a < 3; ++a) {
+      if (b.scale[a] <= 0) return bad("batch scale not positive");
+      // Dequantization is monotonic in q, so the int16 extremes bound every position.
+      const int64_t lo = int64_t(b.offset[a]) + ((int64_t(-32768) * b.scale[a]) >> 16);
+      const int64_t hi = int64_t(b.offset[a]) + ((int64_t(32767) * b.scale[a]) >> 16);
+      if (lo <= -kWorldPositionLimit || hi >= kWorldPositionLimit) return bad("batch positions out of range");
+    }
+  }
+  return ok_status();
+}
+
+Status check_vertices(const Scene& s) {
+  const int64_t one = int64_t(1) << (2 * kNormalBits);
+  for (uint32_t i = 0; i < s.vertex_count; ++i) {
+    const int16_t* n = s.vertices[i].normal;
+    const int64_t len2 = int64_t(n[0]) * n[0] + int64_t(n[1]) * n[1] + int64_t(n[2]) * n[2];
+    if (len2 != 0 && abs64(len2 - one) > one / 16) return bad("vertex normal not unit length");
+  }
+  return ok_status();
+}
+
+Status check_triangles(const Scene& s) {
+  for (uint32_t t = 0; t < s.triangle_count; ++t) {
+    const Triangle& tri = s.triangles[t];
+    if (tri.batch >= s.batch_count) return bad("triangle batch index out of range");
+    const Batch& b = s.batches[tri.batch];
+    if (t < b.first_triangle || t - b.first_triangle >= b.triangle_count) {
+      return bad("triangle outside its batch's range");
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (tri.v[k] < b.first_vertex || tri.v[k] - b.first_vertex >= b.vertex_count) {
+        return bad("triangle vertex index out of range");
+      }
+    }
+  }
+  return ok_status();
+}
+
+// The BSP nodes must be stored breadth-first: reading every node's child references in node order
+// (front before back) yields exactly 1, 2, ..., count-1. That makes the nodes a tree rooted at 0
+// (each node referenced once, never the root, every child after its parent) and lets the depth be
+// counted level by level in one pass with O(1) memory. Piece ranges follow node order contiguously.
+Status check_bsp(const Scene& s) {
+  if (s.bsp_node_count == 0) {
+    if (s.bsp_piece_count != 0) return bad("bsp pieces without bsp nodes");
+    return ok_status();
+  }
+  uint32_t next_child = 1;   // the index the next child reference must have
+  uint32_t level_end = 1;    // end of the level being scanned
+  uint32_t depth = 1;
+  uint32_t next_piece = 0;
+  const int64_t unit2 = int64_t(1) << (2 * kUnitBits);
+  for (uint32_t i = 0; i < s.bsp_node_count; ++i) {
+    const BspNode& n = s.bsp_nodes[i];
+    if (i == level_end) {   // first node of a new level; its level ends where the children so far end
+      ++depth;
+      level_end = next_child;
+      if (level_end <= i) return bad("bsp node unreachable");
+    }
+    for (int a = 0; a < 3; ++a) {
+      if (n.normal[a] < -kUnitOne || n.normal[a] > kUnitOne) return bad("bsp normal out of range");
+    }
+    const int64_t len2 = int64_t(n.normal[0]) * n.normal[0] + int64_t(n.normal[1]) * n.normal[1] +
+                         int64_t(n.normal[2]) * n.normal[2];
+    if (abs64(len2 - unit2) > unit2 / 64) return bad("bsp normal not unit length");
+    if (n.d <= -kPlaneOffsetLimit || n.d >= kPlaneOffsetLimit) return bad("bsp plane offset out of range");
+    const uint32_t child[2] = {n.front, n.back};
+    for (uint32_t c : child) {
+      if (c == kNone) continue;
+      if (c >= s.bsp_node_count) return bad("bsp child index out of range");
+      if (c == 0) return bad("bsp child is the root");
+      if (c < next_child) return bad("bsp node referenced twice");
+      if (c > next_child) return bad("bsp nodes not in breadth-first order");
+      if (c <= i) return bad("bsp child not after its parent");
+      ++next_child;
+    }
+    if (n.first_piece != next_piece) return bad("bsp piece ranges not contiguous");
+    if (!range_ok(n.first_piece, n.piece_count, s.bsp_piece_count)) return bad("bsp piece range out of range");
+    next_piece += n.piece_count;
+  }
+  if (next_child != s.bsp_node_count) return bad("bsp node unreachable");
+  if (next_piece != s.bsp_piece_count) return bad("bsp pieces not covered by nodes");
+  if (depth > s.info->bsp_depth) return bad("bsp deeper than info bsp_depth");
+  for (uint32_t p = 0; p < s.bsp_piece_count; ++p) {
+    const BspPiece& piece = s.bsp_pieces[p];
+    if (piece.triangle >= s.triangle_count) return bad("bsp piece triangle out of range");
+    for (int k = 0; k < 3; ++k) {
+      if (piece.v[k] >= s.vertex_count) return bad("bsp piece vertex index out of range");
+    }
+  }
+  return ok_status();
+}
+
+}  // namespace
+
+uint32_t crc32(const void* data, size_t size, uint32_t previous) {
+  const uint8_t* p = static_cast<const uint8_t*>(data);
+  uint32_t c = previous ^ 0xFFFFFFFFu;
+  for (size_t i = 0; i < size; ++i) c = kCrcTable.entry[(c ^ p[i]) & 0xFFu] ^ (c >> 8);
+  return c ^ 0xFFFFFFFFu;
+}
+
+Status read_scene(const void* blob, size_t size, Scene* out) {
+  if (out == nullptr) return error(StatusCode::InvalidArgument, "scene output is null");
+  *out = Scene{};
+  const uint8_t* base = static_cast<const uint8_t*>(blob);
+  const BlobHeader* header = nullptr;
+  Status st = check_header(base, size, &header);
+  if (!st.ok()) return st;
+  Sections sec;
+  st = check_sections(base, *header, &sec);
+  if (!st.ok()) return st;
+
+  Scene s;
+  s.base = base;
+  s.size = header->total_size;
+  uint32_t info_count = 0;
+  s.info = section_data<SceneInfo>(base, sec.entry[uint32_t(SectionType::Info)], &info_count);
+  s.materials = section_data<Material>(base, sec.entry[uint32_t(SectionType::Materials)], &s.material_count);
+  s.batches = section_data<Batch>(base, sec.entry[uint32_t(SectionType::Batches)], &s.batch_count);
+  s.vertices = section_data<Vertex>(base, sec.entry[uint32_t(SectionType::Vertices)], &s.vertex_count);
+  s.triangles = section_data<Triangle>(base, sec.entry[uint32_t(SectionType::Triangles)], &s.triangle_count);
+  s.nodes = section_data<Node>(base, sec.entry[uint32_t(SectionType::Nodes)], &s.node_count);
+  s.bsp_nodes = section_data<BspNode>(base, sec.entry[uint32_t(SectionType::BspNodes)], &s.bsp_node_count);
+  s.bsp_pieces = section_data<BspPiece>(base, sec.entry[uint32_t(SectionType::BspPieces)], &s.bsp_piece_count);
+  s.textures = section_data<TextureRef>(base, sec.entry[uint32_t(SectionType::Textures)], &s.texture_count);
+
+  if (!(st = check_info(*s.info)).ok()) return st;
+  if (!(st = check_materials(s)).ok()) return st;
+  if (!(st = check_nodes(s)).ok()) return st;
+  if (!(st = check_batches(s)).ok()) return st;
+  if (!(st = check_vertices(s)).ok()) return st;
+  if (!(st = check_triangles(s)).ok()) return st;
+  if (!(st = check_bsp(s)).ok()) return st;
+  *out = s;
+  return ok_status();
+}
+
+Vec3i vertex_world(const Scene& scene, uint32_t batch, uint32_t vertex) {
+  const Batch& b = scene.batches[batch];
+  const int16_t* q = scene.vertices[vertex].position;
+  return Vec3i{int32_t(b.offset[0] + ((int64_t(q[0]) * b.scale[0]) >> 16)),
+               int32_t(b.offset[1] + ((int64_t(q[1]) * b.scale[1]) >> 16)),
+               int32_t(b.offset[2] + ((int64_t(q[2]) * b.scale[2]) >> 16))};
+}
+
+void triangle_world(const Scene& scene, uint32_t id, Vec3i out[3]) {
+  const Triangle& t = scene.triangles[id];
+  for (int k = 0; k < 3; ++k) out[k] = vertex_world(scene, t.batch, t.v[k]);
+}
+
+}  // namespace ml

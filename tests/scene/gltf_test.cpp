@@ -1,0 +1,533 @@
+// The glTF front end: every assimp glTF2 model (compiles and reads back, or a one-line error),
+// 2CylinderEngine's triangle count from an independent count, bad inputs, and a hand-written glTF that
+// pins triangle ids, strip/fan triangulation, TRS and matrix transforms, mirrored winding, normals,
+// texture coordinates and materials.
+#include <gtest/gtest.h>
+
+#include <dirent.h>
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <tiny_gltf.h>
+
+#include "tests/scene/scene_test_util.h"
+
+using namespace ml;
+
+namespace {
+
+void walk(const std::string& dir, std::vector<std::string>* out) {
+  DIR* d = opendir(dir.c_str());
+  if (!d) return;
+  while (dirent* e = readdir(d)) {
+    const std::string name = e->d_name;
+    if (name == "." || name == "..") continue;
+    const std::string path = dir + "/" + name;
+    struct stat st;
+    if (stat(path.c_str(), &st) != 0) continue;
+    if (S_ISDIR(st.st_mode)) {
+      walk(path, out);
+    } else {
+      const size_t dot = name.rfind('.');
+      const std::string ext = dot == std::string::npos ? "" : name.substr(dot);
+      if (ext == ".gltf" || ext == ".glb") out->push_back(path);
+    }
+  }
+  closedir(d);
+  std::sort(out->begin(), out->end());
+}
+
+float bits_to_float(uint32_t u) {
+  float f;
+  std::memcpy(&f, &u, 4);
+  return f;
+}
+
+std::string base64(const std::vector<uint8_t>& data) {
+  static const char* kTable = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < data.size(); i += 3) {
+    uint32_t v = uint32_t(data[i]) << 16;
+    if (i + 1 < data.size()) v |= uint32_t(data[i + 1]) << 8;
+    if (i + 2 < data.size()) v |= data[i + 2];
+    out += kTable[(v >> 18) & 63];
+    out += kTable[(v >> 12) & 63];
+    out += i + 1 < data.size() ? kTable[(v >> 6) & 63] : '=';
+    out += i + 2 < data.size() ? kTable[v & 63] : '=';
+  }
+  return out;
+}
+
+std::string compile_error(const std::string& path) {
+  const CompileResult r = compile_gltf_file(path);
+  EXPECT_FALSE(r.ok) << path;
+  EXPECT_FALSE(r.error.empty()) << path;
+  EXPECT_EQ(r.error.find('\n'), std::string::npos) << path << ": " << r.error;
+  return r.error;
+}
+
+// ---- the hand-written glTF -------------------------------------------------------------------------
+
+using P3 = std::array<double, 3>;
+
+struct Written {
+  std::string path;
+  std::vector<std::array<P3, 3>> expected;   // glTF world positions per triangle id
+};
+
+class BufferBuilder {
+ public:
+  // Appends floats; returns the bufferView index.
+  int floats(const std::vector<float>& v) { return add(v.data(), v.size() * 4); }
+  int shorts(const std::vector<uint16_t>& v) { return add(v.data(), v.size() * 2); }
+  std::string views_json() const { return views_; }
+  std::vector<uint8_t> bytes;
+
+ private:
+  int add(const void* p, size_t n) {
+    while (bytes.size() % 4) bytes.push_back(0);
+    const size_t off = bytes.size();
+    bytes.insert(bytes.end(), static_cast<const uint8_t*>(p), static_cast<const uint8_t*>(p) + n);
+    if (!views_.empty()) views_ += ",";
+    views_ += "{\"buffer\":0,\"byteOffset\":" + std::to_string(off) + ",\"byteLength\":" + std::to_string(n) + "}";
+    return count_++;
+  }
+  std::string views_;
+  int count_ = 0;
+};
+
+// scene_index selects the "scene" property (0: the nested hierarchy, 1: a single node).
+Written write_test_gltf(const std::string& dir, int scene_index) {
+  BufferBuilder b;
+  const std::vector<P3> quad = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  const std::vector<P3> strip = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}, {2, 0, 0}};
+  const std::vector<uint16_t> strip_idx = {4, 3, 2, 1, 0, 0};   // 5 used, padded
+  const std::vector<P3> fan = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 1, 0}};
+  const std::vector<P3> tri = {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+  const std::vector<P3> slanted = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  auto flat = [](const std::vector<P3>& v) {
+    std::vector<float> f;
+    for (const P3& p : v) f.insert(f.end(), {float(p[0]), float(p[1]), float(p[2])});
+    return f;
+  };
+  const float s = float(std::sqrt(0.5));
+  const int v_quad = b.floats(flat(quad));
+  const int v_quad_n = b.floats(flat(std::vector<P3>(6, P3{0, 0, 1})));
+  const int v_quad_uv = b.floats({0, 0, 1, 0, 0, 1, 1, 0, 1, 1, 0.5f, 2.25f});
+  const int v_strip = b.floats(flat(strip));
+  const int v_strip_i = b.shorts(strip_idx);
+  const int v_fan = b.floats(flat(fan));
+  const int v_tri = b.floats(flat(tri));
+  const int v_slant = b.floats(flat(slanted));
+  const int v_slant_n = b.floats({s, s, 0, s, s, 0, s, s, 0});
+  auto acc = [](int view, int count, const char* type, int ctype = 5126) {
+    return "{\"bufferView\":" + std::to_string(view) + ",\"componentType\":" + std::to_string(ctype) +
+           ",\"count\":" + std::to_string(count) + ",\"type\":\"" + type + "\"}";
+  };
+  const std::string accessors = "[" + acc(v_quad, 6, "VEC3") + "," + acc(v_quad_n, 6, "VEC3") + "," +
+                                acc(v_quad_uv, 6, "VEC2") + "," + acc(v_strip, 5, "VEC3") + "," +
+                                acc(v_strip_i, 5, "SCALAR", 5123) + "," + acc(v_fan, 5, "VEC3") + "," +
+                                acc(v_tri, 3, "VEC3") + "," + acc(v_slant, 3, "VEC3") + "," +
+                                acc(v_slant_n, 3, "VEC3") + "]";
+  // accessors: 0 quad pos, 1 quad normal, 2 quad uv, 3 strip pos, 4 strip idx, 5 fan pos, 6 tri pos,
+  //            7 slanted pos, 8 slanted normal
+  const std::string json = std::string("{\"asset\":{\"version\":\"2.0\"},") +
+      "\"scene\":" + std::to_string(scene_index) + "," +
+      "\"scenes\":[{\"nodes\":[0]},{\"nodes\":[6]}]," +
+      "\"nodes\":[" +
+      "{\"name\":\"root\",\"translation\":[10,0,0],\"mesh\":0,\"children\":[1,2,3,5]}," +
+      "{\"name\":\"turned\",\"rotation\":[0,0,0.70710678,0.70710678],\"scale\":[2,2,2],\"mesh\":1,\"children\":[4]}," +
+      "{\"name\":\"mirror_matrix\",\"matrix\":[-1,0,0,0, 0,1,0,0, 0,0,1,0, 0,5,0,1],\"mesh\":2}," +
+      "{\"name\":\"mirror_trs\",\"translation\":[0,5,0],\"scale\":[-1,1,1],\"mesh\":2}," +
+      "{\"name\":\"inherits\",\"mesh\":0}," +
+      "{\"name\":\"stretched\",\"scale\":[2,1,1],\"mesh\":3}," +
+      "{\"name\":\"other_scene\",\"mesh\":0}" +
+      "]," +
+      "\"meshes\":[" +
+      "{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"NORMAL\":1,\"TEXCOORD_0\":2},\"material\":0}]}," +
+      "{\"primitives\":[{\"attributes\":{\"POSITION\":3},\"indices\":4,\"mode\":5}]}," +
+      "{\"primitives\":[{\"attributes\":{\"POSITION\":5},\"mode\":6},{\"attributes\":{\"POSITION\":5},\"mode\":0}," +
+      "{\"attributes\":{\"POSITION\":6}}]}," +
+      "{\"primitives\":[{\"attributes\":{\"POSITION\":7,\"NORMAL\":8}}]}" +
+      "]," +
+      "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorFactor\":[1,0,0,1]},\"doubleSided\":true," +
+      "\"alphaMode\":\"MASK\",\"alphaCutoff\":0.25}]," +
+      "\"accessors\":" + accessors + "," +
+      "\"bufferViews\":[" + b.views_json() + "]," +
+      "\"buffers\":[{\"byteLength\":" + std::to_string(b.bytes.size()) +
+      ",\"uri\":\"data:application/octet-stream;base64," + base64(b.bytes) + "\"}]}";
+  Written w;
+  w.path = dir + "/ids" + std::to_string(scene_index) + ".gltf";
+  scenetest::write_file(w.path, json);
+
+  // Expected world positions, transforms written out by hand.
+  auto f0 = [](P3 p) { return P3{p[0] + 10, p[1], p[2]}; };
+  auto f1 = [](P3 p) { return P3{10 - 2 * p[1], 2 * p[0], 2 * p[2]}; };   // T(10) Rz(90) S(2)
+  auto f2 = [](P3 p) { return P3{10 - p[0], p[1] + 5, p[2]}; };           // T(10) T(0,5,0) S(-1,1,1)
+  auto f5 = [](P3 p) { return P3{10 + 2 * p[0], p[1], p[2]}; };
+  auto add = [&](const std::function<P3(P3)>& f, P3 a, P3 b2, P3 c) { w.expected.push_back({f(a), f(b2), f(c)}); };
+  if (scene_index == 1) {
+    add([](P3 p) { return p; }, quad[0], quad[1], quad[2]);
+    add([](P3 p) { return p; }, quad[3], quad[4], quad[5]);
+    return w;
+  }
+  add(f0, quad[0], quad[1], quad[2]);                      // 0, 1: root's triangles
+  add(f0, quad[3], quad[4], quad[5]);
+  for (int i = 0; i < 3; ++i) {                            // 2..4: strip {v_i, v_(i+1+i%2), v_(i+2-i%2)}
+    add(f1, strip[strip_idx[i]], strip[strip_idx[i + 1 + i % 2]], strip[strip_idx[i + 2 - i % 2]]);
+  }
+  add(f1, quad[0], quad[1], quad[2]);                      // 5, 6: "inherits", child of "turned"
+  add(f1, quad[3], quad[4], quad[5]);
+  for (int copy = 0; copy < 2; ++copy) {                   // 7..10 matrix, 11..14 TRS: mirrored
+    for (int i = 0; i < 3; ++i) add(f2, fan[i + 1], fan[0], fan[i + 2]);   // fan {v_(i+1), v_(i+2), v_0} flipped
+    add(f2, tri[0], tri[2], tri[1]);
+  }
+  add(f5, slanted[0], slanted[1], slanted[2]);             // 15
+  return w;
+}
+
+}  // namespace
+
+TEST(SceneGltf, EveryAssimpModelCompilesOrFailsCleanly) {
+  std::vector<std::string> files;
+  walk(scenetest::kModels, &files);
+  if (files.empty()) GTEST_SKIP() << "assimp-testmodels not installed";
+  int compiled = 0, rejected = 0;
+  for (const std::string& path : files) {
+    const CompileResult r = compile_gltf_file(path);
+    if (r.ok) {
+      ++compiled;
+      Scene s;
+      const Status st = read_scene(r.blob.data(), r.blob.size, &s);
+      EXPECT_TRUE(st.ok()) << path << ": " << st.message;
+      EXPECT_GT(s.triangle_count, 0u) << path;
+      EXPECT_EQ(s.triangle_count, r.report.triangles) << path;
+      EXPECT_TRUE(r.error.empty()) << path;
+    } else {
+      ++rejected;
+      EXPECT_FALSE(r.error.empty()) << path;
+      EXPECT_EQ(r.error.find('\n'), std::string::npos) << path << ": " << r.error;
+      EXPECT_EQ(r.blob.size, 0u) << path;
+    }
+    for (const std::string& w : r.warnings) EXPECT_EQ(w.find('\n'), std::string::npos) << path;
+  }
+  EXPECT_GE(files.size(), 40u);
+  EXPECT_GE(compiled, 20);
+  EXPECT_GE(rejected, 5);
+}
+
+TEST(SceneGltf, CylinderEngineTriangleCountMatchesAccessors) {
+  const std::string path = scenetest::engine_path();
+  if (!scenetest::file_exists(path)) GTEST_SKIP() << "assimp-testmodels not installed";
+  // Independent count: tinygltf accessors over the default scene's node instances.
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  ASSERT_TRUE(loader.LoadBinaryFromFile(&model, &err, &warn, path)) << err;
+  size_t expected = 0;
+  std::function<void(int)> count = [&](int n) {
+    const tinygltf::Node& node = model.nodes[size_t(n)];
+    if (node.mesh >= 0) {
+      for (const tinygltf::Primitive& p : model.meshes[size_t(node.mesh)].primitives) {
+        const size_t k = p.indices >= 0 ? model.accessors[size_t(p.indices)].count
+                                        : model.accessors[size_t(p.attributes.at("POSITION"))].count;
+        if (p.mode == TINYGLTF_MODE_TRIANGLES || p.mode == -1) expected += k / 3;
+        else if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP || p.mode == TINYGLTF_MODE_TRIANGLE_FAN) expected += k >= 2 ? k - 2 : 0;
+      }
+    }
+    for (int c : node.children) count(c);
+  };
+  const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+  for (int n : model.scenes[size_t(scene)].nodes) count(n);
+  EXPECT_GT(expected, 100000u);
+
+  const CompileResult& r = scenetest::cached("engine");
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.report.triangles, expected);
+  Scene s;
+  ASSERT_TRUE(read_scene(r.blob.data(), r.blob.size, &s).ok());
+  EXPECT_EQ(s.triangle_count, expected);
+  EXPECT_GT(s.bsp_node_count, 0u);
+  EXPECT_GE(s.bsp_piece_count, s.triangle_count);
+  EXPECT_LE(s.info->bsp_depth, kMaxBspDepth);
+  std::printf("[   INFO   ] 2CylinderEngine: %u triangles, %u nodes, %u materials, %u bsp nodes, %u pieces, "
+              "split ratio %.3f, depth %u, %.2f s (bsp %.2f s)\n",
+              r.report.triangles, r.report.nodes, r.report.materials, r.report.bsp_nodes, r.report.bsp_pieces,
+              r.report.split_ratio, r.report.bsp_depth, r.report.seconds, r.report.bsp_seconds);
+}
+
+TEST(SceneGltf, NonFiniteCoordinatesAreRejectedNamingTheAccessor) {
+  const std::string path = std::string(scenetest::kModels) + "/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb";
+  if (!scenetest::file_exists(path)) GTEST_SKIP();
+  const std::string e = compile_error(path);
+  EXPECT_NE(e.find("accessor"), std::string::npos) << e;
+  EXPECT_NE(e.find("non-finite"), std::string::npos) << e;
+}
+
+TEST(SceneGltf, IndicesOutOfRangeAreRejected) {
+  for (const char* name : {"/IndexOutOfRange/IndexOutOfRange.gltf", "/IndexOutOfRange/AllIndicesOutOfRange.gltf"}) {
+    const std::string path = std::string(scenetest::kModels) + name;
+    if (!scenetest::file_exists(path)) GTEST_SKIP();
+    const std::string e = compile_error(path);
+    EXPECT_NE(e.find("out of range"), std::string::npos) << e;
+  }
+}
+
+TEST(SceneGltf, RecursiveNodesAreACycleNotAHang) {
+  const std::string path = std::string(scenetest::kModels) + "/RecursiveNodes/RecursiveNodes.gltf";
+  if (!scenetest::file_exists(path)) GTEST_SKIP();
+  EXPECT_NE(compile_error(path).find("cycle"), std::string::npos);
+}
+
+TEST(SceneGltf, MissingFilesAndBuffers) {
+  EXPECT_NE(compile_error("/nonexistent/scene.glb").find("cannot open"), std::string::npos);
+  const std::string path = std::string(scenetest::kModels) + "/MissingBin/BoxTextured.gltf";
+  if (scenetest::file_exists(path)) compile_error(path);
+  const std::string dir = scenetest::temp_dir();
+  scenetest::write_file(dir + "/empty.gltf", "");
+  compile_error(dir + "/empty.gltf");
+  scenetest::write_file(dir + "/garbage.gltf", "{\"asset\":{\"version\":\"2.0\"},\"nodes\":[{\"mesh\":7}]}");
+  EXPECT_NE(compile_error(dir + "/garbage.gltf").find("mesh index out of range"), std::string::npos);
+  scenetest::write_file(dir + "/notjson.gltf", "{{{{ this is not json");
+  compile_error(dir + "/notjson.gltf");
+  scenetest::write_file(dir + "/noscene.gltf", "{\"asset\":{\"version\":\"2.0\"}}");
+  EXPECT_EQ(compile_error(dir + "/noscene.gltf"), "scene has no triangles");
+}
+
+TEST(SceneGltf, TruncatedGlbFailsCleanly) {
+  const std::string path = std::string(scenetest::kModels) + "/BoxTextured-glTF-Binary/BoxTextured.glb";
+  if (!scenetest::file_exists(path)) GTEST_SKIP();
+  Blob whole;
+  std::string error;
+  ASSERT_TRUE(load_blob_file(path, &whole, &error)) << error;
+  const std::string dir = scenetest::temp_dir();
+  int failures = 0;
+  for (size_t n = 0; n < whole.size; n += (n < 64 ? 3 : 97)) {
+    Blob part;
+    part.assign(whole.data(), n);
+    const std::string cut = dir + "/cut.glb";
+    ASSERT_TRUE(save_blob_file(cut, part, &error));
+    const CompileResult r = compile_gltf_file(cut);
+    if (!r.ok) {
+      ++failures;
+      EXPECT_FALSE(r.error.empty());
+      EXPECT_EQ(r.error.find('\n'), std::string::npos) << r.error;
+    }
+  }
+  EXPECT_GT(failures, 10);
+  // Flipped bytes in the JSON and binary chunks: compile or fail, never crash.
+  for (size_t pos = 20; pos < whole.size; pos += 53) {
+    Blob flipped = whole;
+    flipped.bytes()[pos] ^= 0x5A;
+    const std::string f = dir + "/flip.glb";
+    ASSERT_TRUE(save_blob_file(f, flipped, &error));
+    const CompileResult r = compile_gltf_file(f);
+    if (!r.ok) EXPECT_EQ(r.error.find('\n'), std::string::npos) << r.error;
+    else EXPECT_TRUE(scenetest::read(r.blob).ok());
+  }
+}
+
+TEST(SceneGltf, TriangleIdsFollowNodesPrimitivesAndIndices) {
+  const std::string dir = scenetest::temp_dir();
+  const Written w = write_test_gltf(dir, 0);
+  const CompileResult r = compile_gltf_file(w.path);
+  ASSERT_TRUE(r.ok) << r.error;
+  Scene s;
+  ASSERT_TRUE(scenetest::read(r.blob, &s).ok());
+  ASSERT_EQ(s.triangle_count, w.expected.size());
+  bool warned_points = false;
+  for (const std::string& x : r.warnings) warned_points |= x.find("POINTS") != std::string::npos;
+  EXPECT_TRUE(warned_points);
+
+  const double cx = bits_to_float(s.info->gltf_center_bits[0]), cy = bits_to_float(s.info->gltf_center_bits[1]),
+               cz = bits_to_float(s.info->gltf_center_bits[2]), k = bits_to_float(s.info->gltf_to_world_bits);
+  for (uint32_t t = 0; t < s.triangle_count; ++t) {
+    Vec3i got[3];
+    triangle_world(s, t, got);
+    const Batch& b = s.batches[s.triangles[t].batch];
+    const double tol = 1.5 + std::max(b.scale[0], std::max(b.scale[1], b.scale[2])) / 65536.0;
+    for (int v = 0; v < 3; ++v) {
+      const P3& e = w.expected[t][size_t(v)];
+      EXPECT_NEAR(got[v].x, (e[0] - cx) * k, tol) << "triangle " << t << " vertex " << v;
+      EXPECT_NEAR(got[v].y, (e[1] - cy) * k, tol) << "triangle " << t << " vertex " << v;
+      EXPECT_NEAR(got[v].z, (e[2] - cz) * k, tol) << "triangle " << t << " vertex " << v;
+    }
+  }
+  // The matrix node and the TRS node with the same transform give the same positions.
+  for (uint32_t t = 7; t < 11; ++t) {
+    Vec3i a[3], b[3];
+    triangle_world(s, t, a);
+    triangle_world(s, t + 4, b);
+    for (int v = 0; v < 3; ++v) {
+      EXPECT_EQ(a[v].x, b[v].x);
+      EXPECT_EQ(a[v].y, b[v].y);
+      EXPECT_EQ(a[v].z, b[v].z);
+    }
+  }
+  // Mirrored nodes keep front faces counter-clockwise: the fan still faces +z.
+  for (uint32_t t = 7; t < 15; ++t) {
+    Vec3i p[3];
+    triangle_world(s, t, p);
+    const double ux = p[1].x - p[0].x, uy = p[1].y - p[0].y, vx = p[2].x - p[0].x, vy = p[2].y - p[0].y;
+    EXPECT_GT(ux * vy - uy * vx, 0) << "triangle " << t;
+  }
+  // Nodes depth-first: root, turned, inherits, mirror_matrix, mirror_trs, stretched.
+  ASSERT_EQ(s.node_count, 6u);
+  const uint32_t parents[6] = {kNone, 0, 1, 0, 0, 0};
+  for (uint32_t n = 0; n < 6; ++n) EXPECT_EQ(s.nodes[n].parent, parents[n]) << "node " << n;
+  // Materials: the glTF one, then the default for primitives without one.
+  ASSERT_EQ(s.material_count, 2u);
+  EXPECT_EQ(s.materials[0].base_color[0], 255);
+  EXPECT_EQ(s.materials[0].base_color[1], 0);
+  EXPECT_EQ(s.materials[0].base_color[3], 255);
+  EXPECT_EQ(s.materials[0].double_sided, 1);
+  EXPECT_EQ(s.materials[0].alpha_mode, uint8_t(AlphaMode::Mask));
+  EXPECT_EQ(s.materials[0].alpha_cutoff, 64);
+  EXPECT_EQ(s.materials[0].texture, kNone);
+  EXPECT_EQ(s.materials[1].double_sided, 0);
+  EXPECT_EQ(s.materials[1].alpha_mode, uint8_t(AlphaMode::Opaque));
+  EXPECT_EQ(s.materials[1].base_color[0], s.materials[1].base_color[1]);
+  EXPECT_GT(s.materials[1].base_color[0], 150);
+  EXPECT_EQ(s.batches[s.triangles[0].batch].material, 0u);
+  EXPECT_EQ(s.batches[s.triangles[2].batch].material, 1u);
+  // Normals: rotated (0,0,1) stays (0,0,1); (1,1,0) under scale (2,1,1) becomes (0.5,1,0) normalized.
+  const Vertex& turned = s.vertices[s.triangles[5].v[0]];
+  EXPECT_EQ(turned.normal[0], 0);
+  EXPECT_EQ(turned.normal[1], 0);
+  EXPECT_EQ(turned.normal[2], kNormalOne);
+  const Vertex& stretched = s.vertices[s.triangles[15].v[0]];
+  EXPECT_NEAR(stretched.normal[0], 0.5 / std::sqrt(1.25) * kNormalOne, 1.0);
+  EXPECT_NEAR(stretched.normal[1], 1.0 / std::sqrt(1.25) * kNormalOne, 1.0);
+  EXPECT_EQ(stretched.normal[2], 0);
+  const Vertex& no_normals = s.vertices[s.triangles[2].v[0]];
+  EXPECT_EQ(no_normals.normal[0] | no_normals.normal[1] | no_normals.normal[2], 0);
+  // Texture coordinates in Q16.16.
+  const Triangle& t1 = s.triangles[1];
+  EXPECT_EQ(s.vertices[t1.v[0]].uv[0], 65536);
+  EXPECT_EQ(s.vertices[t1.v[1]].uv[1], 65536);
+  EXPECT_EQ(s.vertices[t1.v[2]].uv[0], 32768);
+  EXPECT_EQ(s.vertices[t1.v[2]].uv[1], 147456);
+}
+
+TEST(SceneGltf, DefaultSceneIsHonoured) {
+  const Written w = write_test_gltf(scenetest::temp_dir(), 1);
+  const CompileResult r = compile_gltf_file(w.path);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.report.triangles, 2u);
+  EXPECT_EQ(r.report.nodes, 1u);
+}
+
+TEST(SceneGltf, HostileGraphsAndAccessors) {
+  const std::string dir = scenetest::temp_dir();
+  const std::string head = "{\"asset\":{\"version\":\"2.0\"},";
+  const std::string tri_buffer =   // three float VEC3 positions
+      "\"buffers\":[{\"byteLength\":36,\"uri\":\"data:application/octet-stream;base64,"
+      "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA\"}],";
+  struct Case {
+    const char* name;
+    std::string json;
+    const char* expect;   // substring of the error, or nullptr when it must compile
+  };
+  std::string overflow_chain;   // nine nested scales of 1e38: 1e342 overflows a double
+  for (int i = 0; i < 9; ++i) overflow_chain += "{\"children\":[" + std::to_string(i + 1) + "],\"scale\":[1e38,1e38,1e38]},";
+  overflow_chain += "{\"mesh\":0}";
+  const std::vector<Case> cases = {
+      {"cycle", head + "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"children\":[1]},{\"children\":[0]}]}", "cycle"},
+      {"self", head + "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"children\":[0]}]}", "cycle"},
+      {"child range", head + "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"children\":[5]}]}", "out of range"},
+      {"scene node range", head + "\"scenes\":[{\"nodes\":[3]}],\"nodes\":[{}]}", "out of range"},
+      {"ok", head + tri_buffer +
+                 "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],"
+                 "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],"
+                 "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+                 "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}",
+       nullptr},
+      {"view outside buffer", head + tri_buffer +
+                 "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":12,\"byteLength\":36}],"
+                 "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],"
+                 "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+                 "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}",
+       "outside buffer"},
+      {"count too big", head + tri_buffer +
+                 "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],"
+                 "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\"}],"
+                 "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+                 "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}",
+       "outside its buffer view"},
+      {"bad stride", head + tri_buffer +
+                 "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36,\"byteStride\":4}],"
+                 "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],"
+                 "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+                 "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}",
+       "stride"},
+      {"wrong type", head + tri_buffer +
+                 "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],"
+                 "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":\"VEC2\"}],"
+                 "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+                 "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}",
+       "wrong element type"},
+      {"accessor range", head + tri_buffer +
+                 "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],"
+                 "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],"
+                 "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":9}}]}],"
+                 "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}",
+       nullptr /* tinygltf or we reject; checked below */},
+      {"float indices", head + tri_buffer +
+                 "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],"
+                 "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
+                 "{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"SCALAR\"}],"
+                 "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]}],"
+                 "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}",
+       "indices must be"},
+      {"huge extent", head + tri_buffer +
+                 "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],"
+                 "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],"
+                 "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+                 "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"children\":[1],\"scale\":[1e38,1e38,1e38]},"
+                 "{\"children\":[2],\"scale\":[1e38,1e38,1e38]},{\"mesh\":0}]}",
+       "cannot be normalized"},
+      {"overflowing transform", head + tri_buffer +
+                 "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],"
+                 "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],"
+                 "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+                 "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[" + overflow_chain + "]}",
+       "not finite"},
+      {"short matrix", head + "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"matrix\":[1,0,0]}]}", "16 values"},
+  };
+  for (const Case& c : cases) {
+    const std::string path = dir + "/case.gltf";
+    scenetest::write_file(path, c.json);
+    const CompileResult r = compile_gltf_file(path);
+    if (std::string(c.name) == "accessor range") {
+      EXPECT_FALSE(r.ok) << c.name;
+      continue;
+    }
+    if (c.expect == nullptr) {
+      EXPECT_TRUE(r.ok) << c.name << ": " << r.error;
+      continue;
+    }
+    EXPECT_FALSE(r.ok) << c.name;
+    EXPECT_NE(r.error.find(c.expect), std::string::npos) << c.name << ": " << r.error;
+    EXPECT_EQ(r.error.find('\n'), std::string::npos) << c.name << ": " << r.error;
+  }
+}
+
+TEST(SceneGltf, ExponentialNodeSharingIsBounded) {
+  // Each node lists the next one twice: 2^40 instances if expanded naively.
+  std::string nodes;
+  for (int i = 0; i < 40; ++i) {
+    if (i) nodes += ",";
+    nodes += "{\"children\":[" + std::to_string(i + 1) + "," + std::to_string(i + 1) + "]}";
+  }
+  nodes += ",{}";
+  const std::string dir = scenetest::temp_dir();
+  scenetest::write_file(dir + "/wide.gltf", "{\"asset\":{\"version\":\"2.0\"},\"scenes\":[{\"nodes\":[0]}],\"nodes\":[" + nodes + "]}");
+  EXPECT_NE(compile_error(dir + "/wide.gltf").find("too many node instances"), std::string::npos);
+}

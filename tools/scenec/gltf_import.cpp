@@ -1,0 +1,686 @@
+// glTF 2.0 -> SceneMesh (issue #2 item 5): the default scene's nodes depth-first, transforms flattened
+// to world space, primitives triangulated in order. Every accessor, buffer view and index is checked
+// here before it is read; tinygltf's own checks are not relied on.
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <sstream>
+
+#include <tiny_gltf.h>
+
+#include "tools/scenec/scenec.h"
+
+namespace ml {
+namespace {
+
+constexpr size_t kMaxAccessorCount = size_t(1) << 28;
+constexpr size_t kMaxNodeInstances = size_t(1) << 20;
+constexpr size_t kMaxTriangles = size_t(1) << 27;
+constexpr size_t kMaxFileBytes = size_t(1) << 31;
+
+// One line: newlines become "; ", trailing separators and blanks go.
+std::string one_line(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '\n' || c == '\r') {
+      if (!out.empty() && out.compare(out.size() < 2 ? 0 : out.size() - 2, 2, "; ") != 0) out += "; ";
+    } else {
+      out += c;
+    }
+  }
+  while (!out.empty() && (out.back() == ' ' || out.back() == ';')) out.pop_back();
+  return out;
+}
+
+std::vector<std::string> split_lines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::string line;
+  std::istringstream in(text);
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (!line.empty()) lines.push_back(line);
+  }
+  return lines;
+}
+
+// Images are references only: keep the metadata, decode nothing.
+bool keep_image_reference(tinygltf::Image*, const int, std::string*, std::string*, int, int,
+                          const unsigned char*, int, void*) {
+  return true;
+}
+
+// ---- 4x4 column-major affine matrices ----------------------------------------------------------------
+
+using Mat4 = std::array<double, 16>;   // m[col * 4 + row]
+
+Mat4 identity() {
+  Mat4 m{};
+  m[0] = m[5] = m[10] = m[15] = 1;
+  return m;
+}
+
+Mat4 multiply(const Mat4& a, const Mat4& b) {
+  Mat4 r{};
+  for (int c = 0; c < 4; ++c) {
+    for (int row = 0; row < 4; ++row) {
+      double s = 0;
+      for (int k = 0; k < 4; ++k) s += a[k * 4 + row] * b[c * 4 + k];
+      r[c * 4 + row] = s;
+    }
+  }
+  return r;
+}
+
+bool local_transform(const tinygltf::Node& node, int index, Mat4* out, std::string* error) {
+  const std::string where = "node " + std::to_string(index);
+  auto finite_all = [](const std::vector<double>& v) {
+    return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+  };
+  if (!node.matrix.empty()) {
+    if (node.matrix.size() != 16) {
+      *error = where + ": matrix must have 16 values";
+      return false;
+    }
+    if (!finite_all(node.matrix)) {
+      *error = where + ": non-finite transform";
+      return false;
+    }
+    std::copy(node.matrix.begin(), node.matrix.end(), out->begin());
+    return true;
+  }
+  if ((!node.translation.empty() && node.translation.size() != 3) ||
+      (!node.rotation.empty() && node.rotation.size() != 4) || (!node.scale.empty() && node.scale.size() != 3)) {
+    *error = where + ": translation, rotation or scale has the wrong number of values";
+    return false;
+  }
+  if (!finite_all(node.translation) || !finite_all(node.rotation) || !finite_all(node.scale)) {
+    *error = where + ": non-finite transform";
+    return false;
+  }
+  double t[3] = {0, 0, 0}, s[3] = {1, 1, 1}, q[4] = {0, 0, 0, 1};
+  for (size_t i = 0; i < node.translation.size(); ++i) t[i] = node.translation[i];
+  for (size_t i = 0; i < node.scale.size(); ++i) s[i] = node.scale[i];
+  for (size_t i = 0; i < node.rotation.size(); ++i) q[i] = node.rotation[i];
+  const double len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  if (!(len > 0) || !std::isfinite(len)) {
+    q[0] = q[1] = q[2] = 0;
+    q[3] = 1;
+  } else {
+    for (double& c : q) c /= len;
+  }
+  const double x = q[0], y = q[1], z = q[2], w = q[3];
+  const double r[9] = {// column-major rotation
+                       1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),
+                       2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
+                       2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y)};
+  Mat4 m{};
+  for (int c = 0; c < 3; ++c) {
+    for (int row = 0; row < 3; ++row) m[c * 4 + row] = r[c * 3 + row] * s[c];
+  }
+  m[12] = t[0];
+  m[13] = t[1];
+  m[14] = t[2];
+  m[15] = 1;
+  *out = m;
+  return true;
+}
+
+// ---- accessors ---------------------------------------------------------------------------------------
+
+double component_value(const unsigned char* p, int type, bool normalized) {
+  switch (type) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      int8_t v;
+      std::memcpy(&v, p, 1);
+      return normalized ? std::max(v / 127.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+      uint8_t v;
+      std::memcpy(&v, p, 1);
+      return normalized ? v / 255.0 : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t v;
+      std::memcpy(&v, p, 2);
+      return normalized ? std::max(v / 32767.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t v;
+      std::memcpy(&v, p, 2);
+      return normalized ? v / 65535.0 : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_INT: {
+      int32_t v;
+      std::memcpy(&v, p, 4);
+      return normalized ? std::max(v / 2147483647.0, -1.0) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+      uint32_t v;
+      std::memcpy(&v, p, 4);
+      return normalized ? v / 4294967295.0 : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+      float v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_DOUBLE: {
+      double v;
+      std::memcpy(&v, p, 8);
+      return v;
+    }
+  }
+  return 0;
+}
+
+class Importer {
+ public:
+  Importer(const tinygltf::Model& model, SceneMesh* mesh, std::vector<std::string>* warnings)
+      : model_(model), mesh_(*mesh), warnings_(*warnings) {}
+
+  bool run(std::string* error) {
+    error_ = error;
+    if (!check_extensions()) return false;
+    std::vector<int> roots;
+    if (!choose_roots(&roots)) return false;
+    for (const tinygltf::Material& m : model_.materials) mesh_.materials.push_back(convert_material(m));
+    for (size_t i = 0; i < model_.textures.size(); ++i) {
+      const int source = model_.textures[i].source;
+      mesh_.texture_images.push_back(source >= 0 ? uint32_t(source) : kNone);
+    }
+    for (size_t m = 0; m < mesh_.materials.size(); ++m) {
+      const uint32_t t = mesh_.materials[m].texture;
+      if (t != kNone && t >= mesh_.texture_images.size()) {
+        warn("material " + std::to_string(m) + ": texture index out of range, ignored");
+        mesh_.materials[m].texture = kNone;
+      }
+    }
+    on_path_.assign(model_.nodes.size(), 0);
+    for (int root : roots) {
+      if (!visit(root)) return false;
+    }
+    return true;
+  }
+
+ private:
+  struct Frame {
+    int node;
+    uint32_t mesh_node;
+    Mat4 world;
+    size_t next_child;
+  };
+
+  void warn(const std::string& w) {
+    if (warnings_.size() < 100) warnings_.push_back(w);
+  }
+  bool fail(const std::string& e) {
+    *error_ = e;
+    return false;
+  }
+
+  bool check_extensions() {
+    for (const std::string& ext : model_.extensionsRequired) {
+      if (ext == "KHR_draco_mesh_compression" || ext == "EXT_meshopt_compression" ||
+          ext == "KHR_meshopt_compression") {
+        return fail("required extension " + ext + " is not supported");
+      }
+      if (ext != "KHR_mesh_quantization") warn("required extension " + ext + " ignored");
+    }
+    return true;
+  }
+
+  bool choose_roots(std::vector<int>* roots) {
+    const int count = int(model_.nodes.size());
+    int scene = -1;
+    if (model_.defaultScene >= 0 && size_t(model_.defaultScene) < model_.scenes.size()) {
+      scene = model_.defaultScene;
+    } else {
+      if (model_.defaultScene >= 0) warn("default scene index out of range, using scene 0");
+      if (!model_.scenes.empty()) scene = 0;
+    }
+    if (scene >= 0) {
+      for (int n : model_.scenes[size_t(scene)].nodes) {
+        if (n < 0 || n >= count) return fail("scene " + std::to_string(scene) + ": node index out of range");
+        roots->push_back(n);
+      }
+      return true;
+    }
+    // No scene: every node that no node lists as a child.
+    std::vector<char> is_child(model_.nodes.size(), 0);
+    for (const tinygltf::Node& node : model_.nodes) {
+      for (int c : node.children) {
+        if (c >= 0 && c < count) is_child[size_t(c)] = 1;
+      }
+    }
+    for (int n = 0; n < count; ++n) {
+      if (!is_child[size_t(n)]) roots->push_back(n);
+    }
+    return true;
+  }
+
+  MeshMaterial convert_material(const tinygltf::Material& m) {
+    MeshMaterial out;
+    const std::vector<double>& f = m.pbrMetallicRoughness.baseColorFactor;
+    if (f.size() == 4) {
+      for (int c = 0; c < 4; ++c) out.base_color[c] = std::isfinite(f[size_t(c)]) ? f[size_t(c)] : 1.0;
+    } else {
+      for (double& c : out.base_color) c = 1.0;
+    }
+    const int tex = m.pbrMetallicRoughness.baseColorTexture.index;
+    out.texture = tex >= 0 ? uint32_t(tex) : kNone;
+    out.double_sided = m.doubleSided;
+    if (m.alphaMode == "OPAQUE" || m.alphaMode.empty()) {
+      out.alpha_mode = AlphaMode::Opaque;
+    } else if (m.alphaMode == "MASK") {
+      out.alpha_mode = AlphaMode::Mask;
+    } else if (m.alphaMode == "BLEND") {
+      out.alpha_mode = AlphaMode::Blend;
+    } else {
+      warn("material alphaMode '" + m.alphaMode + "' unknown, using OPAQUE");
+      out.alpha_mode = AlphaMode::Opaque;
+    }
+    out.alpha_cutoff = std::isfinite(m.alphaCutoff) ? m.alphaCutoff : 0.5;
+    return out;
+  }
+
+  uint32_t default_material() {
+    if (default_material_ == kNone) {
+      MeshMaterial m;   // light grey, opaque, single-sided
+      m.base_color[0] = m.base_color[1] = m.base_color[2] = 0.8;
+      m.base_color[3] = 1.0;
+      default_material_ = uint32_t(mesh_.materials.size());
+      mesh_.materials.push_back(m);
+    }
+    return default_material_;
+  }
+
+  // Depth-first pre-order over the node graph from `root`, children in order, with an explicit stack.
+  bool visit(int root) {
+    std::vector<Frame> stack;
+    if (!enter(root, kNone, identity(), &stack)) return false;
+    while (!stack.empty()) {
+      Frame& top = stack.back();
+      const tinygltf::Node& node = model_.nodes[size_t(top.node)];
+      if (top.next_child < node.children.size()) {
+        const int child = node.children[top.next_child++];
+        const Mat4 world = top.world;
+        const uint32_t parent = top.mesh_node;
+        if (!enter(child, parent, world, &stack)) return false;
+      } else {
+        on_path_[size_t(top.node)] = 0;
+        stack.pop_back();
+      }
+    }
+    return true;
+  }
+
+  bool enter(int index, uint32_t parent, const Mat4& parent_world, std::vector<Frame>* stack) {
+    if (index < 0 || size_t(index) >= model_.nodes.size()) {
+      return fail("node index " + std::to_string(index) + " out of range");
+    }
+    if (on_path_[size_t(index)]) return fail("node graph has a cycle through node " + std::to_string(index));
+    if (mesh_.nodes.size() >= kMaxNodeInstances) return fail("too many node instances (node graph too large)");
+    const tinygltf::Node& node = model_.nodes[size_t(index)];
+    Mat4 local;
+    if (!local_transform(node, index, &local, error_)) return false;
+    const Mat4 world = multiply(parent_world, local);
+    for (double v : world) {
+      if (!std::isfinite(v)) return fail("node " + std::to_string(index) + ": world transform is not finite");
+    }
+    const uint32_t mesh_node = uint32_t(mesh_.nodes.size());
+    mesh_.nodes.emplace_back();
+    mesh_.nodes.back().parent = parent;
+    mesh_.nodes.back().name = node.name;
+    if (node.skin >= 0 && !warned_skin_) {
+      warn("skins are ignored (meshes drawn in their bind pose)");
+      warned_skin_ = true;
+    }
+    if (node.mesh >= 0) {
+      if (size_t(node.mesh) >= model_.meshes.size()) {
+        return fail("node " + std::to_string(index) + ": mesh index out of range");
+      }
+      if (!add_mesh(node.mesh, world, mesh_node)) return false;
+    } else if (node.mesh < -1) {
+      return fail("node " + std::to_string(index) + ": mesh index out of range");
+    }
+    on_path_[size_t(index)] = 1;
+    stack->push_back(Frame{index, mesh_node, world, 0});
+    return true;
+  }
+
+  // Reads accessor `index` as doubles, `components` per element. Checks everything first.
+  bool read_accessor(int index, int components, const std::string& semantic, std::vector<double>* out,
+                     size_t* count_out) {
+    const std::string where = "accessor " + std::to_string(index) + " (" + semantic + ")";
+    if (index < 0 || size_t(index) >= model_.accessors.size()) return fail(where + ": index out of range");
+    const tinygltf::Accessor& acc = model_.accessors[size_t(index)];
+    const int csize = tinygltf::GetComponentSizeInBytes(uint32_t(acc.componentType));
+    if (csize <= 0) return fail(where + ": invalid component type");
+    if (tinygltf::GetNumComponentsInType(uint32_t(acc.type)) != components) {
+      return fail(where + ": wrong element type");
+    }
+    if (acc.count > kMaxAccessorCount) return fail(where + ": count too large");
+    const size_t count = acc.count;
+    const size_t elem = size_t(csize) * size_t(components);
+    out->assign(count * size_t(components), 0.0);
+    if (acc.bufferView >= 0) {
+      const unsigned char* data = nullptr;
+      size_t length = 0, stride = 0;
+      if (!view_bytes(acc.bufferView, where, &data, &length, &stride)) return false;
+      if (stride == 0) stride = elem;
+      if (stride < elem || stride > 252 || stride % size_t(csize) != 0) return fail(where + ": bad byte stride");
+      if (count > 0) {
+        if (acc.byteOffset > length) return fail(where + ": data outside its buffer view");
+        const uint64_t need = uint64_t(acc.byteOffset) + uint64_t(count - 1) * stride + elem;
+        if (need > length) return fail(where + ": data outside its buffer view");
+      }
+      for (size_t i = 0; i < count; ++i) {
+        const unsigned char* p = data + acc.byteOffset + i * stride;
+        for (int c = 0; c < components; ++c) {
+          (*out)[i * size_t(components) + size_t(c)] =
+              component_value(p + size_t(c) * size_t(csize), acc.componentType, acc.normalized);
+        }
+      }
+    } else if (acc.bufferView < -1) {
+      return fail(where + ": buffer view index out of range");
+    }
+    if (acc.sparse.isSparse && !apply_sparse(acc, components, csize, where, out)) return false;
+    for (double v : *out) {
+      if (!std::isfinite(v)) return fail(where + ": non-finite value");
+    }
+    *count_out = count;
+    return true;
+  }
+
+  bool apply_sparse(const tinygltf::Accessor& acc, int components, int csize, const std::string& where,
+                    std::vector<double>* out) {
+    const int n = acc.sparse.count;
+    if (n < 0 || size_t(n) > acc.count) return fail(where + ": bad sparse count");
+    const int itype = acc.sparse.indices.componentType;
+    const int isize = tinygltf::GetComponentSizeInBytes(uint32_t(itype));
+    if (itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) {
+      return fail(where + ": bad sparse index type");
+    }
+    const unsigned char *idata = nullptr, *vdata = nullptr;
+    size_t ilen = 0, vlen = 0, unused = 0;
+    if (!view_bytes(acc.sparse.indices.bufferView, where, &idata, &ilen, &unused)) return false;
+    if (!view_bytes(acc.sparse.values.bufferView, where, &vdata, &vlen, &unused)) return false;
+    const int64_t ioff = acc.sparse.indices.byteOffset, voff = acc.sparse.values.byteOffset;
+    const size_t elem = size_t(csize) * size_t(components);
+    if (ioff < 0 || voff < 0 || uint64_t(ioff) + uint64_t(n) * uint64_t(isize) > ilen ||
+        uint64_t(voff) + uint64_t(n) * elem > vlen) {
+      return fail(where + ": sparse data outside its buffer view");
+    }
+    for (int i = 0; i < n; ++i) {
+      const double target = component_value(idata + ioff + size_t(i) * size_t(isize), itype, false);
+      if (!(target >= 0) || target >= double(acc.count)) return fail(where + ": sparse index out of range");
+      const size_t t = size_t(target);
+      for (int c = 0; c < components; ++c) {
+        (*out)[t * size_t(components) + size_t(c)] = component_value(
+            vdata + voff + size_t(i) * elem + size_t(c) * size_t(csize), acc.componentType, acc.normalized);
+      }
+    }
+    return true;
+  }
+
+  bool view_bytes(int view, const std::string& where, const unsigned char** data, size_t* length,
+                  size_t* stride) {
+    if (view < 0 || size_t(view) >= model_.bufferViews.size()) return fail(where + ": buffer view index out of range");
+    const tinygltf::BufferView& bv = model_.bufferViews[size_t(view)];
+    if (bv.buffer < 0 || size_t(bv.buffer) >= model_.buffers.size()) {
+      return fail(where + ": buffer view " + std::to_string(view) + " names a missing buffer");
+    }
+    const std::vector<unsigned char>& buffer = model_.buffers[size_t(bv.buffer)].data;
+    if (bv.byteOffset > buffer.size() || bv.byteLength > buffer.size() - bv.byteOffset) {
+      return fail(where + ": buffer view " + std::to_string(view) + " outside buffer " + std::to_string(bv.buffer));
+    }
+    *data = buffer.data() + bv.byteOffset;
+    *length = bv.byteLength;
+    *stride = bv.byteStride;
+    return true;
+  }
+
+  bool read_indices(int index, size_t vertex_count, std::vector<uint32_t>* out) {
+    const std::string where = "accessor " + std::to_string(index) + " (indices)";
+    if (index < 0 || size_t(index) >= model_.accessors.size()) return fail(where + ": index out of range");
+    const tinygltf::Accessor& acc = model_.accessors[size_t(index)];
+    if (acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+        acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) {
+      return fail(where + ": indices must be unsigned byte, short or int");
+    }
+    std::vector<double> values;
+    size_t count = 0;
+    if (!read_accessor(index, 1, "indices", &values, &count)) return false;
+    out->resize(count);
+    for (size_t i = 0; i < count; ++i) {
+      if (values[i] >= double(vertex_count)) {
+        return fail(where + ": index " + std::to_string(uint64_t(values[i])) + " out of range (vertex count " +
+                    std::to_string(vertex_count) + ")");
+      }
+      (*out)[i] = uint32_t(values[i]);
+    }
+    return true;
+  }
+
+  bool add_mesh(int mesh_index, const Mat4& world, uint32_t mesh_node) {
+    const tinygltf::Mesh& mesh = model_.meshes[size_t(mesh_index)];
+    // Normals: the inverse-transpose of the linear part, as the cofactor matrix times sign(det).
+    const double* m = world.data();
+    auto at = [&](int row, int col) { return m[col * 4 + row]; };
+    double cof[3][3];
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        const int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+        cof[r][c] = at(r1, c1) * at(r2, c2) - at(r1, c2) * at(r2, c1);
+      }
+    }
+    const double det = at(0, 0) * cof[0][0] + at(0, 1) * cof[0][1] + at(0, 2) * cof[0][2];
+    const double nsign = det < 0 ? -1.0 : 1.0;
+    const bool flip = det < 0;
+
+    for (size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
+      const tinygltf::Primitive& prim = mesh.primitives[pi];
+      const std::string where = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(pi);
+      const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+      if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+          mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+        static const char* const kNames[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"};
+        const std::string name = mode >= 0 && mode <= 3 ? kNames[mode] : "unknown mode " + std::to_string(mode);
+        warn(where + ": mode " + name + " skipped (only triangles are drawn)");
+        continue;
+      }
+      if (prim.extensions.count("KHR_draco_mesh_compression")) {
+        return fail(where + ": KHR_draco_mesh_compression is not supported");
+      }
+      const auto pos_it = prim.attributes.find("POSITION");
+      if (pos_it == prim.attributes.end()) {
+        warn(where + ": no POSITION attribute, skipped");
+        continue;
+      }
+      std::vector<double> pos, nrm, uv;
+      size_t count = 0, ncount = 0, uvcount = 0;
+      if (!read_accessor(pos_it->second, 3, "POSITION", &pos, &count)) return false;
+      const auto n_it = prim.attributes.find("NORMAL");
+      if (n_it != prim.attributes.end()) {
+        if (!read_accessor(n_it->second, 3, "NORMAL", &nrm, &ncount)) return false;
+        if (ncount != count) {
+          warn(where + ": NORMAL count differs from POSITION count, normals ignored");
+          nrm.clear();
+        }
+      }
+      const auto uv_it = prim.attributes.find("TEXCOORD_0");
+      if (uv_it != prim.attributes.end()) {
+        if (!read_accessor(uv_it->second, 2, "TEXCOORD_0", &uv, &uvcount)) return false;
+        if (uvcount != count) {
+          warn(where + ": TEXCOORD_0 count differs from POSITION count, texture coordinates ignored");
+          uv.clear();
+        }
+      }
+      std::vector<uint32_t> indices;
+      if (prim.indices >= 0) {
+        if (!read_indices(prim.indices, count, &indices)) return false;
+      } else {
+        if (prim.indices < -1) return fail(where + ": indices accessor out of range");
+        indices.resize(count);
+        for (size_t i = 0; i < count; ++i) indices[i] = uint32_t(i);
+      }
+
+      MeshPrimitive out;
+      if (prim.material >= 0 && size_t(prim.material) < model_.materials.size()) {
+        out.material = uint32_t(prim.material);
+      } else {
+        if (prim.material >= 0 || prim.material < -1) warn(where + ": material index out of range, default used");
+        out.material = default_material();
+      }
+      out.vertices.resize(count);
+      for (size_t i = 0; i < count; ++i) {
+        MeshVertex& v = out.vertices[i];
+        const double* p = &pos[i * 3];
+        for (int r = 0; r < 3; ++r) v.position[r] = at(r, 0) * p[0] + at(r, 1) * p[1] + at(r, 2) * p[2] + at(r, 3);
+        if (!std::isfinite(v.position[0]) || !std::isfinite(v.position[1]) || !std::isfinite(v.position[2])) {
+          return fail(where + ": transformed POSITION is not finite");
+        }
+        if (!nrm.empty()) {
+          const double* n = &nrm[i * 3];
+          double t[3];
+          for (int r = 0; r < 3; ++r) t[r] = nsign * (cof[r][0] * n[0] + cof[r][1] * n[1] + cof[r][2] * n[2]);
+          const double len = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+          if (len > 0 && std::isfinite(len)) {
+            for (int r = 0; r < 3; ++r) v.normal[r] = t[r] / len;
+          }
+        }
+        if (!uv.empty()) {
+          v.uv[0] = uv[i * 2];
+          v.uv[1] = uv[i * 2 + 1];
+        }
+      }
+      const size_t n = indices.size();
+      auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
+        out.triangles.push_back(flip ? std::array<uint32_t, 3>{a, c, b} : std::array<uint32_t, 3>{a, b, c});
+      };
+      if (mode == TINYGLTF_MODE_TRIANGLES) {
+        if (n % 3 != 0) warn(where + ": index count not a multiple of 3, extra indices ignored");
+        for (size_t i = 0; i + 2 < n; i += 3) emit(indices[i], indices[i + 1], indices[i + 2]);
+      } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        // glTF: triangle i = {v_i, v_(i+1+i%2), v_(i+2-i%2)}
+        for (size_t i = 0; i + 2 < n; ++i) {
+          emit(indices[i], indices[i + 1 + i % 2], indices[i + 2 - i % 2]);
+        }
+      } else {
+        // glTF: triangle i = {v_(i+1), v_(i+2), v_0}
+        for (size_t i = 0; i + 2 < n; ++i) emit(indices[i + 1], indices[i + 2], indices[0]);
+      }
+      total_triangles_ += out.triangles.size();
+      if (total_triangles_ > kMaxTriangles) return fail("too many triangles");
+      mesh_.nodes[mesh_node].primitives.push_back(std::move(out));
+    }
+    return true;
+  }
+
+  const tinygltf::Model& model_;
+  SceneMesh& mesh_;
+  std::vector<std::string>& warnings_;
+  std::string* error_ = nullptr;
+  std::vector<char> on_path_;
+  uint32_t default_material_ = kNone;
+  bool warned_skin_ = false;
+  size_t total_triangles_ = 0;
+};
+
+std::string base_dir_of(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
+}
+
+}  // namespace
+
+bool import_gltf_file(const std::string& path, SceneMesh* mesh, std::vector<std::string>* warnings,
+                      std::string* error) {
+  *mesh = SceneMesh();
+  try {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+      *error = "cannot open " + path + ": " + std::strerror(errno);
+      return false;
+    }
+    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) {
+      *error = "cannot read " + path;
+      return false;
+    }
+    if (bytes.size() >= kMaxFileBytes) {
+      *error = "file too large for glTF";
+      return false;
+    }
+    if (bytes.empty()) {
+      *error = "file is empty";
+      return false;
+    }
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(&keep_image_reference, nullptr);
+    tinygltf::Model model;
+    std::string err, warn;
+    const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+    bool ok;
+    if (binary) {
+      ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), base_dir_of(path));
+    } else {
+      ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                      unsigned(bytes.size()), base_dir_of(path));
+    }
+    for (const std::string& w : split_lines(warn)) {
+      if (warnings->size() < 100) warnings->push_back(w);
+    }
+    if (!ok) {
+      const std::string e = one_line(err);
+      *error = e.empty() ? std::string("invalid glTF") : "invalid glTF: " + e;
+      static const char kDraco[] = "KHR_draco_mesh_compression";
+      if (std::search(bytes.begin(), bytes.end(), kDraco, kDraco + sizeof(kDraco) - 1) != bytes.end()) {
+        *error = std::string(kDraco) + " is not supported (" + (e.empty() ? std::string("invalid glTF") : e) + ")";
+      }
+      return false;
+    }
+    Importer importer(model, mesh, warnings);
+    if (!importer.run(error)) {
+      *error = one_line(*error);
+      return false;
+    }
+    return true;
+  } catch (const std::bad_alloc&) {
+    *error = "out of memory while reading glTF";
+  } catch (const std::exception& e) {
+    *error = "invalid glTF: " + one_line(e.what());
+  } catch (...) {
+    *error = "invalid glTF: unknown parse failure";
+  }
+  return false;
+}
+
+CompileResult compile_gltf_file(const std::string& path, const CompileOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  SceneMesh mesh;
+  std::vector<std::string> warnings;
+  std::string error;
+  CompileResult result;
+  if (!import_gltf_file(path, &mesh, &warnings, &error)) {
+    result.error = error;
+    result.warnings = std::move(warnings);
+    return result;
+  }
+  result = compile_mesh(mesh, options);
+  result.warnings.insert(result.warnings.begin(), warnings.begin(), warnings.end());
+  result.camera = CameraHint();
+  result.report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace ml

@@ -1,0 +1,163 @@
+// scenec: the host-side scene compiler. glTF 2.0 (.gltf/.glb) and procedural scenes become scene
+// blobs (format: src/scene/blob_format.h, docs/scene-blob.md) through one path:
+//
+//   glTF file ──import──┐
+//   procedural scene ───┴─► SceneMesh (world space, source units) ──compile_mesh──► Blob
+//                                                   (normalize, quantize, BSP, write, CRC)
+//
+// Host only: C++17, exceptions, float and the standard library are fine here. Nothing throws out of
+// this API: every failure is a CompileResult with ok == false and a one-line error.
+#pragma once
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "scene/blob_format.h"
+
+namespace ml {
+
+// ---- blob container --------------------------------------------------------------------------------
+
+// Bytes of a scene blob in 8-byte-aligned storage (read_scene requires the alignment).
+struct Blob {
+  std::vector<uint64_t> words;
+  size_t size = 0;   // bytes
+
+  const void* data() const { return words.data(); }
+  void* data() { return words.data(); }
+  const uint8_t* bytes() const { return reinterpret_cast<const uint8_t*>(words.data()); }
+  uint8_t* bytes() { return reinterpret_cast<uint8_t*>(words.data()); }
+  // Zero-filled storage for n bytes.
+  void resize(size_t n) {
+    words.assign((n + 7) / 8, 0);
+    size = n;
+  }
+  void assign(const void* src, size_t n);
+};
+
+// Reads a whole file into *out. On failure returns false with a one-line *error.
+bool load_blob_file(const std::string& path, Blob* out, std::string* error);
+// Writes blob.size bytes to path (replacing it). On failure returns false with a one-line *error.
+bool save_blob_file(const std::string& path, const Blob& blob, std::string* error);
+
+// ---- the in-memory scene (input of compile_mesh) ------------------------------------------------------
+
+// Positions in source units (glTF metres, or whatever a procedural scene uses), already in world
+// space: node transforms are applied by whoever fills the mesh.
+struct MeshVertex {
+  double position[3] = {0, 0, 0};
+  double normal[3] = {0, 0, 0};   // unit length, or all zero when the mesh has no normals
+  double uv[2] = {0, 0};          // TEXCOORD_0
+};
+
+// One glTF primitive under one node: becomes one Batch. Triangles index `vertices`, counter-clockwise
+// = front. Triangle ids follow node order, then primitive order, then triangle order.
+struct MeshPrimitive {
+  uint32_t material = 0;
+  std::vector<MeshVertex> vertices;
+  std::vector<std::array<uint32_t, 3>> triangles;
+};
+
+struct MeshNode {
+  uint32_t parent = kNone;        // index of an earlier node, or kNone
+  std::string name;
+  std::vector<MeshPrimitive> primitives;
+};
+
+struct MeshMaterial {
+  double base_color[4] = {0.8, 0.8, 0.8, 1.0};   // linear 0..1
+  uint32_t texture = kNone;                       // index into SceneMesh::texture_images
+  bool double_sided = false;
+  AlphaMode alpha_mode = AlphaMode::Opaque;
+  double alpha_cutoff = 0.5;
+};
+
+// A suggested view, e.g. for a procedural scene (source units in SceneMesh, world units in a result).
+struct CameraHint {
+  bool valid = false;
+  double eye[3] = {0, 0, 0};
+  double target[3] = {0, 0, 0};
+  double up[3] = {0, 1, 0};
+};
+
+struct SceneMesh {
+  std::vector<MeshMaterial> materials;
+  std::vector<uint32_t> texture_images;   // TextureRef::image per texture (glTF image index)
+  std::vector<MeshNode> nodes;            // depth-first order (a parent before its children)
+  CameraHint camera;                      // optional, source units
+};
+
+// ---- compiling -------------------------------------------------------------------------------------
+
+struct CompileOptions {
+  bool build_bsp = true;
+  // BSP plane choice (tools/scenec/bsp.cpp). Defaults measured on the procedural scenes and
+  // 2CylinderEngine: lower split ratios cost depth and build time.
+  uint32_t bsp_seed = 1;              // plane sampling is deterministic for a given seed
+  int bsp_triangle_candidates = 16;   // triangle planes tried per node (more near the root)
+  int bsp_axis_positions = 3;         // axis-aligned candidate positions per axis
+  int bsp_axis_min_pieces = 32;       // axis-aligned candidates only for at least this many pieces
+  int bsp_sample_size = 512;          // pieces each candidate is scored on
+  int bsp_split_weight = 8;           // score = 4 * split_weight * splits + balance_weight * |front - back|
+  int bsp_balance_weight = 2;
+  int bsp_chain_pieces = 0;           // sets up to this size ignore balance (split-free chains)
+};
+
+struct CompileReport {
+  uint32_t triangles = 0;
+  uint32_t vertices = 0;        // including the BSP's split vertices
+  uint32_t nodes = 0;
+  uint32_t materials = 0;
+  uint32_t batches = 0;
+  uint32_t textures = 0;
+  uint32_t bsp_nodes = 0;
+  uint32_t bsp_pieces = 0;
+  uint32_t bsp_depth = 0;
+  uint32_t bsp_split_vertices = 0;
+  double split_ratio = 0;       // bsp_pieces / triangles (0 without a BSP)
+  double seconds = 0;           // wall time of the whole compile
+  double bsp_seconds = 0;
+  size_t blob_bytes = 0;
+};
+
+struct CompileResult {
+  bool ok = false;
+  std::string error;                  // one line when !ok
+  Blob blob;
+  std::vector<std::string> warnings;  // one line each
+  CompileReport report;
+  CameraHint camera;                  // world units; valid for procedural scenes
+};
+
+// glTF 2.0 (.gltf with external/embedded buffers, or .glb) -> blob. Uses the file's default scene
+// (else scene 0, else every root node). Never throws, never crashes on malformed input.
+CompileResult compile_gltf_file(const std::string& path, const CompileOptions& options = CompileOptions());
+
+// glTF 2.0 -> SceneMesh only (no normalization). Returns false with a one-line *error.
+bool import_gltf_file(const std::string& path, SceneMesh* mesh, std::vector<std::string>* warnings,
+                      std::string* error);
+
+// The shared back end: validate, normalize (bbox centre -> origin, largest half-extent -> 2^16 world
+// units), quantize each batch to int16 over its own box, build the BSP, write and checksum the blob.
+CompileResult compile_mesh(const SceneMesh& mesh, const CompileOptions& options = CompileOptions());
+
+// ---- procedural scenes -------------------------------------------------------------------------------
+
+// The bundled scene (the CLI's default): a checkered ground with a cube, a smooth sphere, a torus and a
+// pyramid; about two thousand triangles.
+SceneMesh make_default_scene();
+CompileResult build_default_scene(const CompileOptions& options = CompileOptions());
+
+// Greene's densely occluded test: `layers` rows of rooms (walls with doorways, furniture-like boxes)
+// one behind the other along -z; the camera hint looks down the rows so most triangles are hidden.
+SceneMesh make_office_scene(int layers);
+CompileResult build_office_scene(int layers = 8, const CompileOptions& options = CompileOptions());
+
+// A smooth, finely tessellated torus knot with at least min_triangles triangles (scanline benchmark).
+SceneMesh make_tessellated_scene(uint32_t min_triangles);
+CompileResult build_tessellated_scene(uint32_t min_triangles = 100000,
+                                      const CompileOptions& options = CompileOptions());
+
+}  // namespace ml
