@@ -1,0 +1,80 @@
+#include "tiler/pyramid.h"
+
+#include "core/fixed.h"
+
+namespace ml {
+
+bool make_pyramid_layout(int width, int height, PyramidLayout* out) {
+  *out = PyramidLayout{};
+  if (width < 1 || height < 1 || width > kMaxScreenDim || height > kMaxScreenDim) return false;
+  const int side = max_of(width, height);
+  int n = 2;  // a root triage mask over one-bit blocks at least
+  while ((1 << (3 * n)) < side) ++n;
+  out->width = width;
+  out->height = height;
+  out->levels = n;
+  for (int l = 0; l < n; ++l) {
+    const int s = out->shift(l);
+    out->cols[l] = (width + (1 << s) - 1) >> s;
+    out->rows[l] = (height + (1 << s) - 1) >> s;
+    const uint32_t count = uint32_t(out->cols[l]) * uint32_t(out->rows[l]);
+    if (l < n - 1) out->triage_count += count; else out->block_count = count;
+  }
+  return true;
+}
+
+size_t Pyramid::arena_bytes(const PyramidLayout& layout) {
+  size_t bytes = 0;
+  for (int l = 0; l + 1 < layout.levels; ++l)
+    bytes += arena_worst_case(size_t(layout.cols[l]) * size_t(layout.rows[l]) * sizeof(TriageMask));
+  const int f = layout.levels - 1;
+  bytes += arena_worst_case(size_t(layout.cols[f]) * size_t(layout.rows[f]) * sizeof(uint64_t));
+  return bytes;
+}
+
+bool Pyramid::allocate(const PyramidLayout& l, Arena& arena) {
+  layout = l;
+  for (int i = 0; i < kPyramidMaxLevels - 1; ++i) triage[i] = nullptr;
+  for (int i = 0; i + 1 < l.levels; ++i) {
+    triage[i] = arena.allocate_array<TriageMask>(size_t(l.cols[i]) * size_t(l.rows[i]));
+    if (!triage[i]) return false;
+  }
+  const int f = l.levels - 1;
+  blocks = arena.allocate_array<uint64_t>(size_t(l.cols[f]) * size_t(l.rows[f]));
+  return blocks != nullptr;
+}
+
+// Bits of an 8x8 mask whose subcells (side 2^sub samples, mask origin x0, y0) lie wholly or partly
+// off screen.
+static void offscreen_bits(int x0, int y0, int sub, int width, int height, uint64_t* wholly,
+                           uint64_t* partly) {
+  *wholly = 0;
+  *partly = 0;
+  const int q = 1 << sub;
+  for (int row = 0; row < 8; ++row)
+    for (int col = 0; col < 8; ++col) {
+      const int x = x0 + col * q, y = y0 + row * q;
+      const uint64_t bit = uint64_t(1) << (row * 8 + col);
+      if (x >= width || y >= height) *wholly |= bit;
+      else if (x + q > width || y + q > height) *partly |= bit;
+    }
+}
+
+void Pyramid::clear() {
+  const int n = layout.levels;
+  for (int l = 0; l < n; ++l) {
+    const int s = layout.shift(l);
+    for (int my = 0; my < layout.rows[l]; ++my)
+      for (int mx = 0; mx < layout.cols[l]; ++mx) {
+        const int x0 = mx << s, y0 = my << s;
+        uint64_t wholly = 0, partly = 0;
+        // Interior masks (the common case) need no per-subcell work.
+        if (x0 + (1 << s) > layout.width || y0 + (1 << s) > layout.height)
+          offscreen_bits(x0, y0, s - 3, layout.width, layout.height, &wholly, &partly);
+        if (l == n - 1) block(mx, my) = wholly;
+        else mask(l, mx, my) = TriageMask{wholly, ~(wholly | partly)};
+      }
+  }
+}
+
+}  // namespace ml

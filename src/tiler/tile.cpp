@@ -1,0 +1,388 @@
+#include "tiler/tile.h"
+
+#include "tables/mask_tables.h"
+
+namespace ml {
+
+namespace {
+
+constexpr uint64_t kAll = ~uint64_t(0);
+
+// Table row of a side pair (s1 < s2), as the table header's layout.
+constexpr int kSidePair[4][4] = {{-1, 0, 1, 2}, {0, -1, 3, 4}, {1, 3, -1, 5}, {2, 4, 5, -1}};
+
+// floor(k * t) for the crossing at t = from / (from - to) along a side whose corner values have
+// opposite classes (> 0 vs <= 0): exact restoring division, kMaskKBits steps, no divide. t = 1
+// yields k - 1.
+inline int quantize(int64_t from, int64_t to) {
+  const int64_t num = from > 0 ? from : -from;
+  const int64_t den = from > 0 ? from - to : to - from;
+  int64_t r = num;
+  int iv = 0;
+  for (int i = 0; i < kMaskKBits; ++i) {
+    r <<= 1;
+    iv <<= 1;
+    if (r >= den) {
+      r -= den;
+      iv |= 1;
+    }
+  }
+  return iv;
+}
+
+// Writes the set bits of an 8x8 mask of q x q subcells at (x0, y0): maximal runs per row, and
+// identical consecutive rows merged into one block.
+bool emit_mask(uint64_t m, int x0, int y0, int q, CoverageWriter& writer) {
+  while (m != 0) {
+    const int row = __builtin_ctzll(m) >> 3;  // first row with a set bit; rows above are done
+    const uint32_t byte = uint32_t(m >> (8 * row)) & 0xFFu;
+    int rows = 1;
+    while (row + rows < 8 && (uint32_t(m >> (8 * (row + rows))) & 0xFFu) == byte) ++rows;
+    uint32_t b = byte;
+    while (b != 0) {
+      const int start = __builtin_ctz(b);
+      const int len = __builtin_ctz(~(b >> start));
+      if (!writer.write(x0 + start * q, y0 + row * q, len * q, rows * q)) return false;
+      b &= ~(((1u << len) - 1u) << start);
+    }
+    m = row + rows >= 8 ? 0 : m & (~uint64_t(0) << (8 * (row + rows)));
+  }
+  return true;
+}
+
+}  // namespace
+
+void poly_from_setup(const TriangleSetup& setup, ConvexPoly* out) {
+  out->n = 3;
+  for (int i = 0; i < 3; ++i) out->edge[i] = setup.edge[i];
+  out->min_x = setup.min_x;
+  out->min_y = setup.min_y;
+  out->max_x = setup.max_x;
+  out->max_y = setup.max_y;
+}
+
+TriageMask edge_triage_mask(const int64_t corner[4]) {
+  int enter = 0, exit = 0;
+  for (int s = 0; s < 4; ++s) {
+    const int64_t from = corner[s], to = corner[(s + 1) & 3];
+    const bool p0 = from > 0, p1 = to > 0;
+    if (p0 == p1) continue;
+    const int g = s * kMaskK + quantize(from, to);
+    if (p1) enter = g; else exit = g;
+  }
+  const int g1 = enter < exit ? enter : exit;
+  const int g2 = enter < exit ? exit : enter;
+  const MaskEntry& m = kMaskTable[kSidePair[g1 >> kMaskKBits][g2 >> kMaskKBits] * kMaskK * kMaskK +
+                                  (g1 & (kMaskK - 1)) * kMaskK + (g2 & (kMaskK - 1))];
+  // The stored entry's covered side is the perimeter arc from g1 to g2; ours runs from enter.
+  return enter == g1 ? TriageMask{m.c, m.v} : TriageMask{m.v, m.c};
+}
+
+void HierTiler::init(Pyramid* pyramid, int32_t pitch, WorkImage* work) {
+  pyr_ = pyramid;
+  pitch_ = pitch;
+  work_ = work;
+  cells_visited = 0;
+}
+
+bool HierTiler::poly_mask(int level, const Edges& in, Edges* crossing, uint64_t* pc,
+                          uint64_t* pv) const {
+  return edges_mask(in, int64_t(pitch_) << pyr_->layout.shift(level), crossing, pc, pv);
+}
+
+// The polygon's mask over a cell of `side` subpixels whose top-left corner values are in.e. False
+// when some edge puts the whole cell outside.
+bool HierTiler::edges_mask(const Edges& in, int64_t side, Edges* crossing, uint64_t* pc, uint64_t* pv) {
+  uint64_t c = kAll, v = 0;
+  int n = 0;
+  for (int i = 0; i < in.n; ++i) {
+    int64_t k[4];
+    k[0] = in.e[i];
+    k[1] = k[0] + in.a[i] * side;
+    k[3] = k[0] + in.b[i] * side;
+    k[2] = k[1] + in.b[i] * side;
+    const int64_t lo = min_of(min_of(k[0], k[1]), min_of(k[2], k[3]));
+    const int64_t hi = max_of(max_of(k[0], k[1]), max_of(k[2], k[3]));
+    if (hi <= 0) return false;  // outside: no sample of the open cell has E >= 0
+    if (lo >= 0) continue;      // inside the whole closed cell: irrelevant below
+    const TriageMask m = edge_triage_mask(k);
+    c &= m.c;
+    v |= m.v;
+    crossing->a[n] = in.a[i];
+    crossing->b[n] = in.b[i];
+    crossing->e[n] = in.e[i];
+    ++n;
+  }
+  crossing->n = n;
+  *pc = c;
+  *pv = v;
+  return v != kAll;
+}
+
+// Of the samples in `todo` of a finest cell, those inside every crossing edge.
+uint64_t HierTiler::exact_samples(const Edges& edges, uint64_t todo) const {
+  uint64_t in = 0;
+  const int64_t half = pitch_ / 2;
+  while (todo != 0) {
+    const int bit = __builtin_ctzll(todo);
+    todo &= todo - 1;
+    const int64_t x = (bit & 7) * int64_t(pitch_) + half, y = (bit >> 3) * int64_t(pitch_) + half;
+    bool inside = true;
+    for (int i = 0; i < edges.n && inside; ++i)
+      inside = edges.e[i] + edges.a[i] * x + edges.b[i] * y >= 0;
+    if (inside) in |= uint64_t(1) << bit;
+  }
+  return in;
+}
+
+void HierTiler::add_work(int level, int mx, int my) {
+  const int s = pyr_->layout.shift(level);
+  const int x0 = mx << s, y0 = my << s;
+  const int x1 = min_of(x0 + (1 << s), work_->width), y1 = min_of(y0 + (1 << s), work_->height);
+  if (x1 <= x0 || y1 <= y0) return;
+  const uint32_t add = uint32_t(65536 / (int64_t(x1 - x0) * (y1 - y0)));
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) work_->q16[size_t(y) * size_t(work_->width) + size_t(x)] += add;
+}
+
+bool HierTiler::tile_cell(int level, int mx, int my, const Edges& in, CoverageWriter& writer) {
+  ++cells_visited;
+  if (work_) add_work(level, mx, my);
+  Edges act;
+  uint64_t pc, pv;
+  if (!poly_mask(level, in, &act, &pc, &pv)) return true;
+  const PyramidLayout& lay = pyr_->layout;
+  const int s = lay.shift(level);
+  if (level == lay.finest()) {
+    uint64_t& sc = pyr_->block(mx, my);
+    uint64_t w = pc & ~sc;
+    const uint64_t todo = ~(sc | pc | pv) & box_bits(level, mx, my);  // no sample outside the box is covered
+    if (todo != 0) w |= exact_samples(act, todo);
+    if (w == 0) return true;
+    sc |= w;
+    return emit_mask(w, mx << s, my << s, 1, writer);
+  }
+  TriageMask& sm = pyr_->mask(level, mx, my);
+  uint64_t w, a;
+  composite(&sm, TriageMask{pc, pv}, &w, &a);
+  if (w != 0 && !emit_mask(w, mx << s, my << s, 1 << (s - 3), writer)) return false;
+  a &= box_bits(level, mx, my);  // conservative masks may call subcells beside the box active
+  const int64_t q = int64_t(pitch_) << (s - 3);
+  const bool child_finest = level + 1 == lay.finest();
+  Edges child;
+  child.n = act.n;
+  for (int i = 0; i < act.n; ++i) {
+    child.a[i] = act.a[i];
+    child.b[i] = act.b[i];
+  }
+  while (a != 0) {
+    const int bit = __builtin_ctzll(a);
+    a &= a - 1;
+    const int col = bit & 7, row = bit >> 3;
+    for (int i = 0; i < act.n; ++i) child.e[i] = act.e[i] + act.a[i] * (q * col) + act.b[i] * (q * row);
+    const int cx = mx * 8 + col, cy = my * 8 + row;
+    if (!tile_cell(level + 1, cx, cy, child, writer)) return false;
+    const uint64_t m = uint64_t(1) << bit;
+    if (child_finest) {
+      const uint64_t cb = pyr_->block(cx, cy);
+      if (cb == kAll) sm.c |= m;
+      if (cb != 0) sm.v &= ~m;
+    } else {
+      const TriageMask& cm = pyr_->mask(level + 1, cx, cy);
+      if (cm.c == kAll) sm.c |= m;
+      if (cm.v != kAll) sm.v &= ~m;
+    }
+  }
+  return true;
+}
+
+bool HierTiler::query_cell(int level, int mx, int my, const Edges& in) const {
+  Edges act;
+  uint64_t pc, pv;
+  if (!poly_mask(level, in, &act, &pc, &pv)) return false;
+  const PyramidLayout& lay = pyr_->layout;
+  if (level == lay.finest()) {
+    const uint64_t sc = pyr_->block(mx, my);
+    if ((pc & ~sc) != 0) return true;
+    const uint64_t todo = ~(sc | pc | pv);
+    return todo != 0 && exact_samples(act, todo) != 0;
+  }
+  const TriageMask& sm = pyr_->mask(level, mx, my);
+  // A subcell that is not covered holds at least one uncovered sample (propagation keeps it so).
+  if ((pc & ~sm.c) != 0) return true;
+  uint64_t a = ~(pv | sm.c | pc);
+  const int64_t q = int64_t(pitch_) << (lay.shift(level) - 3);
+  Edges child;
+  child.n = act.n;
+  for (int i = 0; i < act.n; ++i) {
+    child.a[i] = act.a[i];
+    child.b[i] = act.b[i];
+  }
+  while (a != 0) {
+    const int bit = __builtin_ctzll(a);
+    a &= a - 1;
+    const int col = bit & 7, row = bit >> 3;
+    for (int i = 0; i < act.n; ++i) child.e[i] = act.e[i] + act.a[i] * (q * col) + act.b[i] * (q * row);
+    if (query_cell(level + 1, mx * 8 + col, my * 8 + row, child)) return true;
+  }
+  return false;
+}
+
+// Subcells (samples at the finest level) of a level-`level` cell that the polygon's box overlaps.
+uint64_t HierTiler::box_bits(int level, int mx, int my) const {
+  const int sub = pyr_->layout.shift(level) - 3;
+  const int c0 = max_of(0, (bx0_ >> sub) - mx * 8), c1 = min_of(7, (bx1_ >> sub) - mx * 8);
+  const int r0 = max_of(0, (by0_ >> sub) - my * 8), r1 = min_of(7, (by1_ >> sub) - my * 8);
+  if (c0 > c1 || r0 > r1) return 0;
+  const uint64_t row = ((uint64_t(2) << c1) - 1) & ~((uint64_t(1) << c0) - 1);
+  uint64_t rows = 0;
+  for (int r = r0; r <= r1; ++r) rows |= row << (8 * r);
+  return rows;
+}
+
+// Whether the polygon's box holds an uncovered sample inside this (not covered) cell: a descent
+// through the pyramid over the box, no edge arithmetic, first uncovered sample wins.
+bool HierTiler::box_uncovered(int level, int mx, int my) const {
+  const uint64_t box = box_bits(level, mx, my);
+  if (level == pyr_->layout.finest()) return (box & ~pyr_->block(mx, my)) != 0;
+  const TriageMask& m = pyr_->mask(level, mx, my);
+  if (box & m.v) return true;  // a vacant subcell is wholly on screen: every sample in it is uncovered
+  uint64_t a = box & ~(m.c | m.v);
+  while (a != 0) {
+    const int bit = __builtin_ctzll(a);
+    a &= a - 1;
+    if (box_uncovered(level + 1, mx * 8 + (bit & 7), my * 8 + (bit >> 3))) return true;
+  }
+  return false;
+}
+
+// The smallest cell enclosing the polygon's sample box, or false when the box is empty or the
+// pyramid proves every sample in it covered (an ancestor subcell on the path, or all subcells the
+// box touches in the enclosing cell).
+bool HierTiler::start_cell(const ConvexPoly& poly, int* level, int* mx, int* my) const {
+  if (poly.min_x > poly.max_x || poly.min_y > poly.max_y) return false;
+  const PyramidLayout& lay = pyr_->layout;
+  const uint32_t d = uint32_t(poly.min_x ^ poly.max_x) | uint32_t(poly.min_y ^ poly.max_y);
+  int m = (bit_length(d) + 2) / 3;
+  if (m < 1) m = 1;
+  const int target = lay.levels - m;
+  for (int l = 0; l < target; ++l) {
+    const int s = lay.shift(l), sub = s - 3;
+    const int col = (poly.min_x >> sub) & 7, row = (poly.min_y >> sub) & 7;
+    if (pyr_->mask(l, poly.min_x >> s, poly.min_y >> s).c & (uint64_t(1) << (row * 8 + col))) return false;
+  }
+  const int s = lay.shift(target);
+  *level = target;
+  *mx = poly.min_x >> s;
+  *my = poly.min_y >> s;
+  return box_uncovered(target, *mx, *my);
+}
+
+// Carries a cell's new status to every ancestor (tiling may start below the root).
+void HierTiler::propagate_up(int level, int mx, int my) {
+  const PyramidLayout& lay = pyr_->layout;
+  for (int l = level; l > 0; --l) {
+    bool all_covered, none_covered;
+    if (l == lay.finest()) {
+      const uint64_t b = pyr_->block(mx, my);
+      all_covered = b == kAll;
+      none_covered = b == 0;
+    } else {
+      const TriageMask& m = pyr_->mask(l, mx, my);
+      all_covered = m.c == kAll;
+      none_covered = m.v == kAll;
+    }
+    const uint64_t bit = uint64_t(1) << ((my & 7) * 8 + (mx & 7));
+    mx >>= 3;
+    my >>= 3;
+    TriageMask& parent = pyr_->mask(l - 1, mx, my);
+    if (all_covered) parent.c |= bit;
+    if (!none_covered) parent.v &= ~bit;
+  }
+}
+
+TileResult HierTiler::tile(const ConvexPoly& poly, CoverageWriter& writer) {
+  bx0_ = poly.min_x;
+  by0_ = poly.min_y;
+  bx1_ = poly.max_x;
+  by1_ = poly.max_y;
+  int level, mx, my;
+  if (!start_cell(poly, &level, &mx, &my)) return TileResult::Hidden;
+  const int s = pyr_->layout.shift(level);
+  const int64_t x0 = int64_t(mx) * pitch_ << s, y0 = int64_t(my) * pitch_ << s;
+  Edges edges;
+  edges.n = poly.n;
+  for (int i = 0; i < poly.n; ++i) {
+    edges.a[i] = poly.edge[i].a;
+    edges.b[i] = poly.edge[i].b;
+    edges.e[i] = poly.edge[i].at(x0, y0);
+  }
+  const bool ok = tile_cell(level, mx, my, edges, writer);
+  propagate_up(level, mx, my);
+  return ok ? TileResult::Tiled : TileResult::Failed;
+}
+
+bool HierTiler::box_visible(const ConvexPoly& poly) {
+  bx0_ = poly.min_x;
+  by0_ = poly.min_y;
+  bx1_ = poly.max_x;
+  by1_ = poly.max_y;
+  int level, mx, my;
+  return start_cell(poly, &level, &mx, &my);
+}
+
+bool HierTiler::visible(const ConvexPoly& poly) {
+  bx0_ = poly.min_x;
+  by0_ = poly.min_y;
+  bx1_ = poly.max_x;
+  by1_ = poly.max_y;
+  int level, mx, my;
+  if (!start_cell(poly, &level, &mx, &my)) return false;
+  const int s = pyr_->layout.shift(level);
+  const int64_t x0 = int64_t(mx) * pitch_ << s, y0 = int64_t(my) * pitch_ << s;
+  Edges edges;
+  edges.n = poly.n;
+  for (int i = 0; i < poly.n; ++i) {
+    edges.a[i] = poly.edge[i].a;
+    edges.b[i] = poly.edge[i].b;
+    edges.e[i] = poly.edge[i].at(x0, y0);
+  }
+  return query_cell(level, mx, my, edges);
+}
+
+bool polygon_mask(const ConvexPoly& poly, int64_t x0, int64_t y0, int64_t side, TriageMask* out) {
+  HierTiler::Edges in, crossing;
+  in.n = poly.n;
+  for (int i = 0; i < poly.n; ++i) {
+    in.a[i] = poly.edge[i].a;
+    in.b[i] = poly.edge[i].b;
+    in.e[i] = poly.edge[i].at(x0, y0);
+  }
+  return HierTiler::edges_mask(in, side, &crossing, &out->c, &out->v);
+}
+
+bool HierTiler::background_cell(int level, int mx, int my, CoverageWriter& writer) {
+  const PyramidLayout& lay = pyr_->layout;
+  const int s = lay.shift(level);
+  if (level == lay.finest()) {
+    uint64_t& b = pyr_->block(mx, my);
+    const uint64_t w = ~b;
+    b = kAll;
+    return w == 0 || emit_mask(w, mx << s, my << s, 1, writer);
+  }
+  TriageMask& m = pyr_->mask(level, mx, my);
+  if (m.v != 0 && !emit_mask(m.v, mx << s, my << s, 1 << (s - 3), writer)) return false;
+  uint64_t a = ~(m.c | m.v);
+  while (a != 0) {
+    const int bit = __builtin_ctzll(a);
+    a &= a - 1;
+    if (!background_cell(level + 1, mx * 8 + (bit & 7), my * 8 + (bit >> 3), writer)) return false;
+  }
+  m.c = kAll;
+  m.v = 0;
+  return true;
+}
+
+bool HierTiler::background(CoverageWriter& writer) { return background_cell(0, 0, 0, writer); }
+
+}  // namespace ml

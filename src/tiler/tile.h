@@ -1,0 +1,113 @@
+// tile_poly: Greene's hierarchical tiling of one convex polygon into the coverage pyramid.
+//
+// Per visited cell, each edge's values at the cell's corners (computed incrementally from the
+// parent's corner, in the edge function's exact integer units) classify it as outside (reject: the
+// polygon misses the cell, also when a conservative parent mask called the cell active), inside
+// (dropped for the subtree) or crossing; a crossing edge's two perimeter intercepts are quantized
+// to the table's k intervals (exact, by restoring division) and its triage mask looked up in
+// tables/. Then, with S the screen mask and P the polygon mask:
+//   W = Sv & Pc (newly covered subcells: written),  A = ~(W | Pv | Sc) (subdivided),
+// and each subdivided child's status is propagated back into S. At the finest level the table
+// resolves most samples and the rest are tested with the edge functions at the sample centres, so
+// coverage there is exactly src/view's (fill rule included): watertight.
+//
+// Samples: sample (sx, sy) sits at subpixel (sx * pitch + pitch / 2, sy * pitch + pitch / 2); with
+// one sample per pixel, pitch = 256 and samples are pixels. Cell corners are sample-area corners.
+#pragma once
+#include <stdint.h>
+
+#include "render/render.h"
+#include "tiler/pyramid.h"
+#include "view/view.h"
+
+namespace ml {
+
+constexpr int kMaxPolyEdges = 6;  // triangles now; projected box silhouettes later
+
+// A convex polygon as the intersection of edge half-planes E >= 0, with the bounding box of the
+// samples it can cover (inclusive, clipped to the screen; empty when min > max).
+struct ConvexPoly {
+  int n = 0;
+  EdgeFunction edge[kMaxPolyEdges];
+  int32_t min_x = 0, min_y = 0, max_x = -1, max_y = -1;
+};
+
+// One-sample-per-pixel polygon of a set-up triangle.
+void poly_from_setup(const TriangleSetup& setup, ConvexPoly* out);
+
+// Receives every block of samples that tiling (or the background pass) newly covers. Each sample is
+// handed over at most once per frame. Returning false aborts the frame.
+class CoverageWriter {
+ public:
+  virtual ~CoverageWriter() = default;
+  virtual bool write(int x, int y, int w, int h) = 0;
+};
+
+// The triage mask of an edge crossing a square, from the edge's values at the corners in walk
+// order (TL, TR, BR, BL): at least one must be > 0 and one < 0.
+TriageMask edge_triage_mask(const int64_t corner[4]);
+
+// The polygon's triage mask over the square [x0, x0 + side) x [y0, y0 + side) (subpixels, cut in
+// 8x8 subcells). False when an edge puts the whole square outside (then *out is unspecified).
+bool polygon_mask(const ConvexPoly& poly, int64_t x0, int64_t y0, int64_t side, TriageMask* out);
+
+// Greene's compositing of a polygon mask p under a screen mask s (Table 4.1): w = subcells newly
+// covered (written), a = subcells to subdivide, *s updated (w moved from vacant to covered).
+//   w = Sv & Pc,  a = ~(w | Pv | Sc)
+inline void composite(TriageMask* s, const TriageMask& p, uint64_t* w, uint64_t* a) {
+  *w = s->v & p.c;
+  s->c |= *w;
+  s->v &= ~*w;
+  *a = ~(*w | p.v | s->c);
+}
+
+enum class TileResult : uint8_t { Hidden, Tiled, Failed };
+
+class HierTiler {
+ public:
+  // pitch: subpixels per sample. work: optional work image (same size as the screen, pitch 256).
+  void init(Pyramid* pyramid, int32_t pitch, WorkImage* work);
+
+  // Tiles one polygon, front to back: Hidden when the bounding-box test proves it invisible
+  // (nothing visited), Failed when the writer refused a write.
+  TileResult tile(const ConvexPoly& poly, CoverageWriter& writer);
+
+  // Whether any sample the polygon covers is still uncovered. Never changes the pyramid.
+  bool visible(const ConvexPoly& poly);
+
+  // The bounding-box part of that test alone (no edges): false when every sample in the
+  // polygon's box is covered. Never changes the pyramid.
+  bool box_visible(const ConvexPoly& poly);
+
+  // Covers every remaining sample (the background polygon composited with the root mask).
+  bool background(CoverageWriter& writer);
+
+  uint64_t cells_visited = 0;
+
+ private:
+  friend bool polygon_mask(const ConvexPoly&, int64_t, int64_t, int64_t, TriageMask*);
+  struct Edges {
+    int n;
+    int64_t a[kMaxPolyEdges], b[kMaxPolyEdges];
+    int64_t e[kMaxPolyEdges];  // value at the cell's top-left corner
+  };
+  static bool edges_mask(const Edges& in, int64_t side, Edges* crossing, uint64_t* pc, uint64_t* pv);
+  bool poly_mask(int level, const Edges& in, Edges* crossing, uint64_t* pc, uint64_t* pv) const;
+  uint64_t exact_samples(const Edges& edges, uint64_t todo) const;
+  bool tile_cell(int level, int mx, int my, const Edges& in, CoverageWriter& writer);
+  bool query_cell(int level, int mx, int my, const Edges& in) const;
+  bool background_cell(int level, int mx, int my, CoverageWriter& writer);
+  bool start_cell(const ConvexPoly& poly, int* level, int* mx, int* my) const;
+  uint64_t box_bits(int level, int mx, int my) const;
+  bool box_uncovered(int level, int mx, int my) const;
+  void propagate_up(int level, int mx, int my);
+  void add_work(int level, int mx, int my);
+
+  Pyramid* pyr_ = nullptr;
+  int32_t pitch_ = 256;
+  WorkImage* work_ = nullptr;
+  // Sample box of the polygon being tiled or queried (inclusive).
+  int32_t bx0_ = 0, by0_ = 0, bx1_ = -1, by1_ = -1;
+};
+
+}  // namespace ml

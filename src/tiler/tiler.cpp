@@ -1,0 +1,319 @@
+// The tiler's frame: BSP front to back, each piece projected, back-face culled, set up and tiled
+// into the coverage pyramid (tile.h); newly covered blocks go straight to the Sink, shaded; the
+// background is tiled through the root mask last. See docs/tiler.md.
+#include "tiler/tiler.h"
+
+#include "tiler/tile.h"
+
+namespace ml {
+
+namespace {
+
+constexpr int kRowPixels = 64;  // Gouraud row buffer: rows of wider blocks go out in chunks
+
+// One traversal frame, 4 bytes: node index (< 2^31, the reader bounds counts far below) and, in the
+// top bit, whether the near side is done.
+using BspFrame = uint32_t;
+constexpr BspFrame kNearDone = 0x80000000u;
+
+size_t bsp_stack_entries(const Scene& scene) {
+  return scene.info ? size_t(scene.info->bsp_depth) + 1 : 1;
+}
+
+// Turns newly covered sample blocks into sink writes of the current piece's colours. Colours are
+// computed on the first write, so hidden pieces cost no shading.
+class SinkWriter : public CoverageWriter {
+ public:
+  SinkWriter(Sink& sink, Stats* stats, Pixel* row) : sink_(sink), stats_(stats), row_(row) {}
+
+  void begin_piece(const Scene* scene, const Light* light, ShadingMode mode, uint32_t triangle,
+                   bool front_facing) {
+    scene_ = scene;
+    light_ = light;
+    mode_ = mode;
+    triangle_ = triangle;
+    front_facing_ = front_facing;
+    shaded_ = false;
+    wrote_piece_ = false;
+  }
+  void begin_part(const ScreenTriangle* part) {
+    part_ = part;
+    planes_ready_ = false;
+  }
+  void begin_background(Pixel value) {
+    shaded_ = true;
+    colors_.flat = value;
+    colors_.smooth = false;
+  }
+  bool wrote_piece() const { return wrote_piece_; }
+
+  bool write(int x, int y, int w, int h) override {
+    wrote_piece_ = true;
+    if (!shaded_) {
+      shade_triangle(*scene_, *light_, mode_, triangle_, front_facing_, &colors_);
+      shaded_ = true;
+      ++stats_->shading_calls;
+    }
+    stats_->pixel_writes += uint64_t(w) * uint64_t(h);
+    if (!colors_.smooth) {
+      ++stats_->sink_calls;
+      return sink_.fill_block(x, y, w, h, colors_.flat);
+    }
+    if (!planes_ready_) {
+      make_color_planes(*part_, colors_, &planes_);
+      planes_ready_ = true;
+    }
+    stats_->shading_calls += uint64_t(w) * uint64_t(h);
+    for (int yy = y; yy < y + h; ++yy)
+      for (int x0 = x; x0 < x + w; x0 += kRowPixels) {
+        const int n = min_of(kRowPixels, x + w - x0);
+        // ColorPlanes::at, stepped along the row: same sums, same shifts, same clamp.
+        int64_t acc[3];
+        for (int c = 0; c < 3; ++c) {
+          const LinearPlane& p = planes_.channel[c];
+          acc[c] = p.origin + p.step_x * x0 + p.step_y * yy;
+        }
+        for (int i = 0; i < n; ++i) {
+          uint32_t ch[3];
+          for (int c = 0; c < 3; ++c) {
+            ch[c] = uint32_t(clamp_to(int32_t(acc[c] >> kPlaneBits), 0, 255));
+            acc[c] += planes_.channel[c].step_x;
+          }
+          row_[i] = rgb(ch[0], ch[1], ch[2]);
+        }
+        ++stats_->sink_calls;
+        if (!sink_.write_block(x0, yy, n, 1, row_, n)) return false;
+      }
+    return true;
+  }
+
+ private:
+  Sink& sink_;
+  Stats* stats_;
+  Pixel* row_;
+  const Scene* scene_ = nullptr;
+  const Light* light_ = nullptr;
+  ShadingMode mode_ = ShadingMode::Flat;
+  uint32_t triangle_ = 0;
+  bool front_facing_ = true;
+  bool shaded_ = false;
+  bool wrote_piece_ = false;
+  const ScreenTriangle* part_ = nullptr;
+  bool planes_ready_ = false;
+  TriangleColors colors_{};
+  ColorPlanes planes_{};
+};
+
+// A BSP piece cut from a triangle has split vertices quantized like any vertex, so its outer edges
+// can stray from the triangle's own edges by a fraction of a subpixel: a sliver of overlap or crack
+// against the neighbour across that edge. For a piece that may be visible, the piece is tiled as
+// its (unclipped) triangle intersected with the piece's inner edges (those not along a triangle
+// edge, shared with its sibling pieces): the outer boundary is then the triangle's exactly
+// (watertight with the neighbour, the same samples the scanline renderer gives the triangle). When
+// the classification is ambiguous (slivers whose vertices are all near one edge) the piece is
+// tiled as it is. The box grows by one pixel for the sliver.
+bool is_split_piece(const BspPiece& piece, const Triangle& tri) {
+  for (int i = 0; i < 3; ++i)
+    if (piece.v[i] != tri.v[0] && piece.v[i] != tri.v[1] && piece.v[i] != tri.v[2]) return true;
+  return false;
+}
+
+// Whether v lies within `tol` subpixels of the edge's line (|E| <= tol (|a| + |b|) bounds the
+// distance by tol).
+bool near_edge(const EdgeFunction& e, const ScreenVertex& v, int64_t tol) {
+  return abs64(e.at(v.x, v.y)) <= tol * (abs64(e.a) + abs64(e.b));
+}
+
+// How far a split vertex may sit from its triangle's edge on screen: three world units (a batch's
+// int16 grid and the rounding of vertex_world move a vertex by up to about 1.5) projected at the
+// nearer endpoint's depth, at least two subpixels, at most half a pixel.
+int64_t split_tolerance(const View& view, const ScreenVertex& p, const ScreenVertex& q) {
+  const int64_t z = max_of<int64_t>(1, min_of(p.z, q.z));  // 1/16 world unit (kViewFractionBits)
+  return clamp_to<int64_t>((3 * view.focal_q8 << kViewFractionBits) / z, 2, kSubpixelHalf);
+}
+
+void clip_to_triangle(const View& view, const ScreenTriangle& part, const TriangleSetup& whole,
+                      int width, int height, ConvexPoly* poly) {
+  int along[3];
+  int used = 0;  // bit k: some piece edge runs along triangle edge k
+  for (int i = 0; i < 3; ++i) {
+    along[i] = -1;
+    const ScreenVertex& p = part.v[i];
+    const ScreenVertex& q = part.v[(i + 1) % 3];
+    const int64_t tol = split_tolerance(view, p, q);
+    for (int k = 0; k < 3; ++k) {
+      if (!near_edge(whole.edge[k], p, tol) || !near_edge(whole.edge[k], q, tol)) continue;
+      if (along[i] >= 0 || (used >> k & 1)) return;  // ambiguous: keep the piece as it is
+      along[i] = k;
+    }
+    if (along[i] >= 0) used |= 1 << along[i];
+  }
+  if (used == 0 || used == 7) return;  // nothing on the boundary, or the whole triangle
+  ConvexPoly out;
+  for (int i = 0; i < 3; ++i)
+    if (along[i] < 0) out.edge[out.n++] = poly->edge[i];
+  for (int k = 0; k < 3; ++k) out.edge[out.n++] = whole.edge[k];
+  out.min_x = max_of(poly->min_x - 1, max_of(whole.min_x, 0));
+  out.min_y = max_of(poly->min_y - 1, max_of(whole.min_y, 0));
+  out.max_x = min_of(poly->max_x + 1, min_of(whole.max_x, width - 1));
+  out.max_y = min_of(poly->max_y + 1, min_of(whole.max_y, height - 1));
+  *poly = out;
+}
+
+Status check_options(const Camera& camera, const RenderOptions& options) {
+  if (options.aa != 1) return error(StatusCode::Unsupported, "the tiler point-samples (aa must be 1)");
+  if (options.shading == ShadingMode::Lines)
+    return error(StatusCode::Unsupported, "the tiler has no hidden-line mode (use the scanline renderer)");
+  if (camera.width < 1 || camera.height < 1 || camera.width > kMaxScreenDim ||
+      camera.height > kMaxScreenDim)
+    return error(StatusCode::InvalidArgument, "screen size out of range");
+  if (options.work && (!options.work->q16 || options.work->width != camera.width ||
+                       options.work->height != camera.height))
+    return error(StatusCode::InvalidArgument, "work image must match the screen size");
+  return ok_status();
+}
+
+}  // namespace
+
+size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
+  (void)options;
+  PyramidLayout layout;
+  if (!make_pyramid_layout(clamp_to(camera.width, 1, kMaxScreenDim),
+                           clamp_to(camera.height, 1, kMaxScreenDim), &layout))
+    return 0;
+  return Pyramid::arena_bytes(layout) +
+         arena_worst_case(sizeof(BspFrame) * bsp_stack_entries(scene), 4) +
+         arena_worst_case(sizeof(Pixel) * kRowPixels, 4);
+}
+
+Status tiler_render(const Scene& scene, const Camera& camera, const RenderOptions& options,
+                    Arena& arena, Sink& sink, Stats* stats) {
+  Stats local;
+  Stats* st = stats ? stats : &local;
+  st->width = uint32_t(camera.width);
+  st->height = uint32_t(camera.height);
+  st->samples_per_pixel = 1;
+  st->triangles_in = scene.triangle_count;
+  Status status = check_options(camera, options);
+  if (!status.ok()) return status;
+  View view;
+  status = make_view(camera, &view);
+  if (!status.ok()) return status;
+  if (scene.bsp_node_count == 0 || scene.info == nullptr)
+    return error(StatusCode::Unsupported, "scene has no BSP; recompile it with the scene compiler");
+  if (scene.info->bsp_depth > kMaxBspDepth) return error(StatusCode::BadScene, "BSP too deep");
+
+  const size_t need = tiler_arena_bytes(scene, camera, options);
+  if (arena.size() - arena.used() < need)
+    return error(StatusCode::ArenaTooSmall, "arena too small for the tiler", need);
+
+  PyramidLayout layout;
+  make_pyramid_layout(camera.width, camera.height, &layout);
+  Pyramid pyramid;
+  const size_t stack_cap = bsp_stack_entries(scene);
+  if (!pyramid.allocate(layout, arena)) return error(StatusCode::ArenaTooSmall, "arena too small", need);
+  BspFrame* stack = arena.allocate_array<BspFrame>(stack_cap);
+  Pixel* row = arena.allocate_array<Pixel>(kRowPixels);
+  if (!stack || !row) return error(StatusCode::ArenaTooSmall, "arena too small", need);
+  pyramid.clear();
+  st->pyramid_bytes = layout.bytes();
+  st->bsp_nodes = scene.bsp_node_count;
+  st->bsp_pieces = scene.bsp_piece_count;
+
+  HierTiler tiler;
+  tiler.init(&pyramid, kSubpixelOne, options.work);
+  const Light light = make_light(view);
+  SinkWriter writer(sink, st, row);
+
+  auto finish = [&](Status s) {
+    st->cells_visited = tiler.cells_visited;
+    st->peak_arena_bytes = uint32_t(arena.peak());
+    return s;
+  };
+  if (!sink.begin_frame(camera.width, camera.height))
+    return finish(error(StatusCode::SinkFailed, "sink refused the frame"));
+
+  // Front to back without recursion: one frame per node on the current root-to-node path; the far
+  // child replaces its parent's frame, so the stack never holds more than the path.
+  const TriageMask& root = pyramid.mask(0, 0, 0);
+  uint32_t pieces_done = 0, visits = 0;
+  size_t sp = 0;
+  stack[sp++] = 0;
+  ScreenTriangle parts[kMaxClipTriangles];
+  while (sp > 0 && root.c != ~uint64_t(0)) {
+    if (++visits > 2 * scene.bsp_node_count)
+      return finish(error(StatusCode::BadScene, "BSP is not a tree"));
+    BspFrame& f = stack[sp - 1];
+    const uint32_t index = f & ~kNearDone;
+    if (index >= scene.bsp_node_count) return finish(error(StatusCode::BadScene, "BSP child out of range"));
+    const BspNode& node = scene.bsp_nodes[index];
+    const int64_t side = int64_t(node.normal[0]) * view.eye.x + int64_t(node.normal[1]) * view.eye.y +
+                         int64_t(node.normal[2]) * view.eye.z - node.d;
+    const uint32_t near = side >= 0 ? node.front : node.back;
+    const uint32_t far = side >= 0 ? node.back : node.front;
+    if (!(f & kNearDone)) {
+      f |= kNearDone;
+      if (near != kNone) {
+        if (sp == stack_cap) return finish(error(StatusCode::BadScene, "BSP deeper than bsp_depth"));
+        stack[sp++] = near;
+      }
+      continue;
+    }
+    for (uint32_t p = node.first_piece; p < node.first_piece + node.piece_count; ++p) {
+      ++pieces_done;
+      const BspPiece& piece = scene.bsp_pieces[p];
+      const Triangle& tri = scene.triangles[piece.triangle];
+      const Material& mat = scene.materials[scene.batches[tri.batch].material];
+      // Facing is decided on the whole triangle, exactly as the scanline renderer decides it, and
+      // before projecting, so back faces cost almost nothing.
+      Vec3i whole_world[3];
+      triangle_world(scene, piece.triangle, whole_world);
+      const int facing = triangle_facing(view, whole_world);
+      if (facing == 0 || (facing < 0 && !mat.double_sided)) {
+        ++st->triangles_culled;
+        continue;
+      }
+      const bool split = is_split_piece(piece, tri);
+      Vec3i world[3];
+      for (int i = 0; i < 3; ++i) world[i] = split ? vertex_world(scene, tri.batch, piece.v[i]) : whole_world[i];
+      const int n = project_triangle(view, world, facing, parts);
+      if (n == 0) {
+        ++st->triangles_culled;
+        continue;
+      }
+      writer.begin_piece(&scene, &light, options.shading, piece.triangle, facing > 0);
+      for (int i = 0; i < n; ++i) {
+        TriangleSetup setup;
+        setup_triangle(parts[i], camera.width, camera.height, &setup);
+        ConvexPoly poly;
+        poly_from_setup(setup, &poly);
+        if (poly.min_x > poly.max_x || poly.min_y > poly.max_y) continue;
+        ++st->triangles_tiled;
+        if (n == 1 && split && tiler.box_visible(poly)) {
+          ScreenTriangle whole[kMaxClipTriangles];
+          if (project_triangle(view, whole_world, facing, whole) == 1) {
+            TriangleSetup whole_setup;
+            setup_triangle(whole[0], camera.width, camera.height, &whole_setup);
+            clip_to_triangle(view, parts[0], whole_setup, camera.width, camera.height, &poly);
+          }
+        }
+        writer.begin_part(&parts[i]);
+        if (tiler.tile(poly, writer) == TileResult::Failed)
+          return finish(error(StatusCode::SinkFailed, "sink refused a write"));
+      }
+      if (writer.wrote_piece()) ++st->triangles_drawn; else ++st->triangles_culled;
+    }
+    if (far != kNone) f = far; else --sp;
+  }
+  // Once the root is covered every remaining piece is hidden.
+  if (scene.bsp_piece_count > pieces_done) st->triangles_culled += scene.bsp_piece_count - pieces_done;
+
+  writer.begin_background(options.shading == ShadingMode::Ids ? 0 : options.background);
+  const uint64_t before = tiler.cells_visited;
+  if (!tiler.background(writer)) return finish(error(StatusCode::SinkFailed, "sink refused a write"));
+  tiler.cells_visited = before;
+  if (!sink.end_frame()) return finish(error(StatusCode::SinkFailed, "sink refused the frame end"));
+  return finish(ok_status());
+}
+
+}  // namespace ml

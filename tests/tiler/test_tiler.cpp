@@ -1,0 +1,558 @@
+// tile_poly and the tiler frame: T5, T6, S1-S7 of the digest's §5, exact coverage, once-only writes
+// through tiler_render, arena sizing, work image.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "core/arena.h"
+#include "render/render.h"
+#include "tests/tiler/tiler_test_util.h"
+#include "tiler/tile.h"
+#include "tiler/tiler.h"
+
+namespace {
+
+using tiler_test::CountingSink;
+using tiler_test::OwnedPyramid;
+using tiler_test::RecordingWriter;
+
+ml::ConvexPoly poly_of(const ml::ScreenTriangle& t, int w, int h, ml::TriangleSetup* s) {
+  ml::setup_triangle(t, w, h, s);
+  ml::ConvexPoly p;
+  ml::poly_from_setup(*s, &p);
+  return p;
+}
+
+// T5: a polygon mask has Pc & Pv == 0 and Pc ⊆ true coverage ⊆ ~Pv, per subcell, against brute
+// force over every sample of the subcell (cells of 8x8 subcells of 1..64 samples).
+TEST(TilerMask, PolygonMaskBracketsTrueCoverage) {
+  std::mt19937 rng(9);
+  int tested = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const int sub = 1 << (rng() % 4);  // subcell side in samples
+    const int side = 8 * sub;
+    ml::ScreenTriangle t;
+    if (!tiler_test::random_triangle(rng, side, side, side, &t)) continue;
+    ml::TriangleSetup s;
+    const ml::ConvexPoly poly = poly_of(t, side, side, &s);
+    ml::TriageMask m;
+    const bool touches = ml::polygon_mask(poly, 0, 0, int64_t(side) * 256, &m);
+    for (int bit = 0; bit < 64; ++bit) {
+      int in = 0;
+      for (int y = 0; y < sub; ++y)
+        for (int x = 0; x < sub; ++x) in += ml::covers_pixel(s, (bit & 7) * sub + x, (bit >> 3) * sub + y);
+      if (!touches) {
+        ASSERT_EQ(in, 0) << "rejected polygon covers a sample";
+        continue;
+      }
+      ASSERT_EQ(m.c & m.v, 0u);
+      if (m.c >> bit & 1) {
+        ASSERT_EQ(in, sub * sub) << trial;
+      }
+      if (m.v >> bit & 1) {
+        ASSERT_EQ(in, 0) << trial;
+      }
+    }
+    ++tested;
+  }
+  EXPECT_GT(tested, 2500);
+}
+
+// T6: Greene's Table 4.1, all nine cases, and the listing's misprint is not what we compute.
+TEST(TilerMask, CompositingFollowsTable41) {
+  enum { Cov, Act, Vac };
+  auto mask = [](int st) { return ml::TriageMask{st == Cov ? 1u : 0u, st == Vac ? 1u : 0u}; };
+  struct Case {
+    int screen, poly;
+    bool write, subdivide;
+    int result;
+  };
+  const Case cases[9] = {
+      {Cov, Cov, false, false, Cov}, {Cov, Act, false, false, Cov}, {Cov, Vac, false, false, Cov},
+      {Act, Cov, false, true, Act},  {Act, Act, false, true, Act},  {Act, Vac, false, false, Act},
+      {Vac, Cov, true, false, Cov},  {Vac, Act, false, true, Vac},  {Vac, Vac, false, false, Vac},
+  };
+  for (const Case& c : cases) {
+    ml::TriageMask s = mask(c.screen);
+    const ml::TriageMask p = mask(c.poly);
+    uint64_t w, a;
+    ml::composite(&s, p, &w, &a);
+    EXPECT_EQ((w & 1) != 0, c.write) << c.screen << c.poly;
+    EXPECT_EQ((a & 1) != 0, c.subdivide) << c.screen << c.poly;
+    const int result = (s.c & 1) ? Cov : (s.v & 1) ? Vac : Act;
+    EXPECT_EQ(result, c.result) << c.screen << c.poly;
+    // The thesis listing's A = ~(W | Pv | Pc) skips case 4 and subdivides case 2.
+    const uint64_t wrong = ~(w | p.v | p.c) & 1;
+    if (c.screen == Act && c.poly == Cov) {
+      EXPECT_NE(wrong, a & 1);
+    }
+    if (c.screen == Cov && c.poly == Act) {
+      EXPECT_NE(wrong, a & 1);
+    }
+  }
+}
+
+// S1, S3, S4, exactness: random triangles tiled front to back give each sample to the first
+// triangle (in order) whose src/view coverage contains it, written exactly once; S2/S5 after the
+// background: every sample written once and the root covered.
+TEST(TilerTile, OwnershipEqualsBruteForceFrontToBack) {
+  std::mt19937 rng(1);
+  for (auto [w, h] : {std::pair<int, int>{320, 240}, {64, 64}, {77, 131}, {600, 9}, {1, 1}, {513, 300}}) {
+    for (int rep = 0; rep < 3; ++rep) {
+      OwnedPyramid op(w, h);
+      ml::HierTiler tiler;
+      tiler.init(&op.pyramid, 256, nullptr);
+      RecordingWriter rec(w, h);
+      std::vector<int> expect(size_t(w) * size_t(h), -1);
+      const int count = 60 + rep * 40;
+      for (int i = 0; i < count; ++i) {
+        ml::ScreenTriangle t;
+        const int span = (i % 5 == 0) ? std::max(w, h) : 1 + int(rng() % uint32_t(std::max(2, std::max(w, h) / 6)));
+        if (!tiler_test::random_triangle(rng, w, h, span, &t)) continue;
+        ml::TriangleSetup s;
+        const ml::ConvexPoly poly = poly_of(t, w, h, &s);
+        rec.current = i;
+        tiler.tile(poly, rec);
+        for (int y = 0; y < h; ++y)
+          for (int x = 0; x < w; ++x)
+            if (expect[size_t(y) * size_t(w) + size_t(x)] < 0 && ml::covers_pixel(s, x, y))
+              expect[size_t(y) * size_t(w) + size_t(x)] = i;
+      }
+      ASSERT_FALSE(rec.out_of_bounds);
+      for (size_t p = 0; p < expect.size(); ++p) {
+        ASSERT_LE(rec.count[p], 1) << "sample written twice at " << p % size_t(w) << "," << p / size_t(w);
+        ASSERT_EQ(rec.count[p] ? rec.owner[p] : -1, expect[p])
+            << "at " << p % size_t(w) << "," << p / size_t(w) << " size " << w << "x" << h;
+      }
+      rec.current = -2;
+      ASSERT_TRUE(tiler.background(rec));
+      for (size_t p = 0; p < expect.size(); ++p) {
+        ASSERT_EQ(rec.count[p], 1);
+        if (expect[p] < 0) {
+          ASSERT_EQ(rec.owner[p], -2);
+        }
+      }
+      EXPECT_EQ(op.pyramid.mask(0, 0, 0).c, ~uint64_t(0));
+    }
+  }
+}
+
+// Watertight: a fan/grid mesh with shared vertices covering the screen leaves no sample unwritten
+// and writes none twice.
+TEST(TilerTile, SharedEdgeMeshIsWatertight) {
+  std::mt19937 rng(4);
+  const int w = 203, h = 157;
+  for (int rep = 0; rep < 4; ++rep) {
+    const int n = 4 + rep * 3;
+    std::vector<std::pair<int, int>> grid;
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        int x = -300 + i * (w * 256 + 600) / n, y = -300 + j * (h * 256 + 600) / n;
+        if (i > 0 && i < n) x += int(rng() % 601) - 300;
+        if (j > 0 && j < n) y += int(rng() % 601) - 300;
+        grid.push_back({x, y});
+      }
+    OwnedPyramid op(w, h);
+    ml::HierTiler tiler;
+    tiler.init(&op.pyramid, 256, nullptr);
+    RecordingWriter rec(w, h);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const int q[4] = {j * (n + 1) + i, j * (n + 1) + i + 1, (j + 1) * (n + 1) + i + 1, (j + 1) * (n + 1) + i};
+        const int tris[2][3] = {{q[0], q[1], q[2]}, {q[0], q[2], q[3]}};
+        for (const auto& tv : tris) {
+          ml::ScreenTriangle t{};
+          for (int k = 0; k < 3; ++k) {
+            t.v[k].x = grid[size_t(tv[k])].first;
+            t.v[k].y = grid[size_t(tv[k])].second;
+          }
+          t.area2 = (int64_t(t.v[1].x) - t.v[0].x) * (int64_t(t.v[2].y) - t.v[0].y) -
+                    (int64_t(t.v[1].y) - t.v[0].y) * (int64_t(t.v[2].x) - t.v[0].x);
+          if (t.area2 < 0) {
+            std::swap(t.v[1], t.v[2]);
+            t.area2 = -t.area2;
+          }
+          if (t.area2 == 0) continue;
+          ml::TriangleSetup s;
+          tiler.tile(poly_of(t, w, h, &s), rec);
+        }
+      }
+    for (size_t p = 0; p < rec.count.size(); ++p) ASSERT_EQ(rec.count[p], 1) << p;
+    EXPECT_EQ(op.pyramid.mask(0, 0, 0).c, ~uint64_t(0));
+  }
+}
+
+// S6: once a region is covered, polygons inside it visit no cell and write nothing.
+TEST(TilerTile, CoveredRegionsCostNothing) {
+  const int w = 320, h = 240;
+  OwnedPyramid op(w, h);
+  ml::HierTiler tiler;
+  tiler.init(&op.pyramid, 256, nullptr);
+  RecordingWriter rec(w, h);
+  ml::ScreenTriangle big{};
+  big.v[0] = {-1000 * 256, -1000 * 256, 0, 0, {}};
+  big.v[1] = {2000 * 256, -1000 * 256, 0, 0, {}};
+  big.v[2] = {-1000 * 256, 2000 * 256, 0, 0, {}};
+  big.area2 = 1;  // only the sign matters to setup
+  ml::TriangleSetup s;
+  const ml::TriageMask root = op.pyramid.mask(0, 0, 0);
+  const uint64_t partly_off = uint64_t(__builtin_popcountll(~(root.c | root.v)));
+  EXPECT_EQ(partly_off, 5u);  // 240 = 3.75 x 64: the fourth row of root subcells
+  ASSERT_EQ(tiler.tile(poly_of(big, w, h, &s), rec), ml::TileResult::Tiled);
+  // The root writes its vacant subcells as 64x64 blocks; only the partly off-screen ones are entered.
+  EXPECT_EQ(tiler.cells_visited, 1u + partly_off);
+  EXPECT_EQ(op.pyramid.mask(0, 0, 0).c, ~uint64_t(0));
+  const int calls = rec.calls;
+  std::mt19937 rng(8);
+  for (int i = 0; i < 200; ++i) {
+    ml::ScreenTriangle t;
+    if (!tiler_test::random_triangle(rng, w, h, 50, &t)) continue;
+    const uint64_t before = tiler.cells_visited;
+    const ml::TileResult r = tiler.tile(poly_of(t, w, h, &s), rec);
+    EXPECT_EQ(r, ml::TileResult::Hidden);
+    EXPECT_EQ(tiler.cells_visited, before);
+  }
+  EXPECT_EQ(rec.calls, calls);
+}
+
+// S7: the visibility query never changes the pyramid and answers whether some sample the polygon
+// covers is still uncovered.
+TEST(TilerTile, VisibilityQueryIsExactAndPure) {
+  std::mt19937 rng(12);
+  const int w = 150, h = 100;
+  OwnedPyramid op(w, h);
+  ml::HierTiler tiler;
+  tiler.init(&op.pyramid, 256, nullptr);
+  RecordingWriter rec(w, h);
+  int visible = 0, hidden = 0;
+  for (int i = 0; i < 400; ++i) {
+    ml::ScreenTriangle t;
+    if (!tiler_test::random_triangle(rng, w, h, i < 200 ? 30 : 8, &t)) continue;
+    ml::TriangleSetup s;
+    const ml::ConvexPoly poly = poly_of(t, w, h, &s);
+    const auto before = op.bytes();
+    const bool vis = tiler.visible(poly);
+    ASSERT_EQ(op.bytes(), before);
+    bool brute = false;
+    for (int y = 0; y < h && !brute; ++y)
+      for (int x = 0; x < w && !brute; ++x)
+        brute = ml::covers_pixel(s, x, y) && rec.count[size_t(y) * size_t(w) + size_t(x)] == 0;
+    ASSERT_EQ(vis, brute) << i;
+    (vis ? visible : hidden)++;
+    if (i % 2 == 0) tiler.tile(poly, rec);
+  }
+  EXPECT_GT(visible, 20);
+  EXPECT_GT(hidden, 20);
+}
+
+// ---- the frame (tiler_render) -----------------------------------------------------------------
+
+struct Frame {
+  CountingSink sink;
+  ml::Stats stats;
+  ml::Status status;
+};
+
+Frame render(const ml::Scene& scene, const ml::Camera& cam, ml::ShadingMode mode, ml::WorkImage* work = nullptr,
+             size_t arena_bytes = 0) {
+  Frame f;
+  ml::RenderOptions opt;
+  opt.shading = mode;
+  opt.work = work;
+  const size_t need = ml::tiler_arena_bytes(scene, cam, opt);
+  std::vector<uint8_t> mem(arena_bytes ? arena_bytes : need);
+  ml::Arena arena(mem.data(), mem.size());
+  f.status = ml::tiler_render(scene, cam, opt, arena, f.sink, &f.stats);
+  return f;
+}
+
+// Brute-force Ids image of a TestScene: pieces in BSP order (front to back for test_camera), the
+// first covering piece owns the pixel.
+std::vector<ml::Pixel> brute_ids(const tiler_test::TestScene& ts, const ml::Camera& cam) {
+  ml::View view;
+  EXPECT_TRUE(ml::make_view(cam, &view).ok());
+  std::vector<ml::Pixel> img(size_t(cam.width) * size_t(cam.height), 0);
+  std::vector<uint32_t> order;
+  std::function<void(uint32_t)> walk = [&](uint32_t n) {
+    if (n == ml::kNone) return;
+    walk(ts.nodes[n].front);
+    for (uint32_t p = 0; p < ts.nodes[n].piece_count; ++p) order.push_back(ts.nodes[n].first_piece + p);
+    walk(ts.nodes[n].back);
+  };
+  walk(0);
+  for (uint32_t p : order) {
+    const ml::BspPiece& piece = ts.pieces[p];
+    ml::Vec3i world[3];
+    for (int i = 0; i < 3; ++i) world[i] = ml::vertex_world(ts.scene, ts.triangles[piece.triangle].batch, piece.v[i]);
+    ml::ScreenTriangle parts[ml::kMaxClipTriangles];
+    const int n = ml::project_triangle(view, world, parts);
+    const bool ds = ts.materials[ts.batches[ts.triangles[piece.triangle].batch].material].double_sided;
+    for (int i = 0; i < n; ++i) {
+      if (!parts[i].front_facing && !ds) continue;
+      ml::TriangleSetup s;
+      ml::setup_triangle(parts[i], cam.width, cam.height, &s);
+      for (int y = std::max(0, s.min_y); y <= s.max_y; ++y)
+        for (int x = std::max(0, s.min_x); x <= s.max_x; ++x) {
+          ml::Pixel& px = img[size_t(y) * size_t(cam.width) + size_t(x)];
+          if (px == 0 && ml::covers_pixel(s, x, y)) px = piece.triangle + 1;
+        }
+    }
+  }
+  return img;
+}
+
+TEST(TilerRender, RandomScenesWriteEveryPixelOnceAndMatchBruteForce) {
+  std::mt19937 rng(31);
+  for (int rep = 0; rep < 6; ++rep) {
+    tiler_test::TestScene ts;
+    ts.build(tiler_test::random_scene(rng, 40 + rep * 30, 60 + rep * 40));
+    const ml::Camera cam = tiler_test::test_camera(rep % 2 ? 320 : 173, rep % 2 ? 240 : 211);
+    for (ml::ShadingMode mode : {ml::ShadingMode::Ids, ml::ShadingMode::Flat, ml::ShadingMode::Gouraud}) {
+      Frame f = render(ts.scene, cam, mode);
+      ASSERT_TRUE(f.status.ok()) << f.status.message;
+      EXPECT_EQ(f.sink.begins, 1);
+      EXPECT_EQ(f.sink.ends, 1);
+      ASSERT_FALSE(f.sink.out_of_bounds);
+      for (int c : f.sink.count) ASSERT_EQ(c, 1);
+      EXPECT_EQ(f.stats.pixel_writes, uint64_t(cam.width) * uint64_t(cam.height));
+      EXPECT_EQ(f.stats.sink_calls, uint64_t(f.sink.calls));
+      EXPECT_GT(f.stats.cells_visited, 0u);
+      EXPECT_GT(f.stats.triangles_drawn, 10u);
+      EXPECT_EQ(f.stats.triangles_drawn + f.stats.triangles_culled, f.stats.bsp_pieces);
+      if (mode == ml::ShadingMode::Ids) {
+        const auto expect = brute_ids(ts, cam);
+        for (size_t p = 0; p < expect.size(); ++p) ASSERT_EQ(f.sink.image[p], expect[p]) << "pixel " << p;
+      }
+    }
+  }
+}
+
+// Colours: every pixel of a Flat or Gouraud frame is the colour src/shade gives its owner (from
+// the Ids frame) at that pixel: flat colour, or ColorPlanes::at for smooth triangles.
+TEST(TilerRender, ColoursMatchShadeForTheOwner) {
+  std::mt19937 rng(77);
+  tiler_test::TestScene ts;
+  ts.build(tiler_test::random_scene(rng, 80, 200));
+  const ml::Camera cam = tiler_test::test_camera(160, 120);
+  ml::View view;
+  ASSERT_TRUE(ml::make_view(cam, &view).ok());
+  const ml::Light light = ml::make_light(view);
+  Frame ids = render(ts.scene, cam, ml::ShadingMode::Ids);
+  ASSERT_TRUE(ids.status.ok());
+  int smooth_pixels = 0;
+  for (ml::ShadingMode mode : {ml::ShadingMode::Flat, ml::ShadingMode::Gouraud, ml::ShadingMode::Unlit}) {
+    Frame f = render(ts.scene, cam, mode);
+    ASSERT_TRUE(f.status.ok());
+    for (int y = 0; y < cam.height; ++y)
+      for (int x = 0; x < cam.width; ++x) {
+        const size_t i = size_t(y) * size_t(cam.width) + size_t(x);
+        const ml::Pixel id = ids.sink.image[i];
+        if (id == 0) {
+          ASSERT_EQ(f.sink.image[i], ml::RenderOptions{}.background);
+          continue;
+        }
+        const uint32_t tri = id - 1;
+        ml::Vec3i world[3];
+        ml::triangle_world(ts.scene, tri, world);
+        ml::ScreenTriangle parts[ml::kMaxClipTriangles];
+        ASSERT_EQ(ml::project_triangle(view, world, parts), 1);
+        ml::TriangleColors colors;
+        ml::shade_triangle(ts.scene, light, mode, tri, parts[0].front_facing, &colors);
+        ml::Pixel expect = colors.flat;
+        if (colors.smooth) {
+          ml::ColorPlanes planes;
+          ml::make_color_planes(parts[0], colors, &planes);
+          expect = planes.at(x, y);
+          ++smooth_pixels;
+        }
+        ASSERT_EQ(f.sink.image[i], expect) << "pixel " << x << "," << y << " mode " << int(mode);
+      }
+  }
+  EXPECT_GT(smooth_pixels, 1000);
+}
+
+TEST(TilerRender, ScreenCoveringMeshLeavesNoBackground) {
+  std::vector<tiler_test::TestScene::Tri> tris;
+  const int n = 9, lo = -1500, step = 3000 / n;
+  std::mt19937 rng(2);
+  std::vector<int> jx((n + 1) * (n + 1)), jy((n + 1) * (n + 1));
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const bool inner = i > 0 && i < n && j > 0 && j < n;
+      jx[size_t(j * (n + 1) + i)] = lo + i * step + (inner ? int(rng() % 101) - 50 : 0);
+      jy[size_t(j * (n + 1) + i)] = lo + j * step + (inner ? int(rng() % 101) - 50 : 0);
+    }
+  auto vtx = [&](int i, int j, int16_t* p) {
+    p[0] = int16_t(jx[size_t(j * (n + 1) + i)]);
+    p[1] = int16_t(jy[size_t(j * (n + 1) + i)]);
+    p[2] = 0;
+  };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      tiler_test::TestScene::Tri a, b;
+      vtx(i, j, a.p[0]); vtx(i + 1, j, a.p[1]); vtx(i + 1, j + 1, a.p[2]);
+      vtx(i, j, b.p[0]); vtx(i + 1, j + 1, b.p[1]); vtx(i, j + 1, b.p[2]);
+      a.double_sided = b.double_sided = true;
+      tris.push_back(a);
+      tris.push_back(b);
+    }
+  tiler_test::TestScene ts;
+  ts.build(tris);
+  for (auto [w, h] : {std::pair<int, int>{320, 240}, {97, 300}}) {
+    Frame f = render(ts.scene, tiler_test::test_camera(w, h), ml::ShadingMode::Ids);
+    ASSERT_TRUE(f.status.ok());
+    for (size_t p = 0; p < f.sink.image.size(); ++p) {
+      ASSERT_EQ(f.sink.count[p], 1);
+      ASSERT_NE(f.sink.image[p], 0u) << "background at pixel " << p;
+    }
+  }
+}
+
+// BSP pieces cut from triangles with split vertices off the triangle's edge by a world unit (as
+// quantization does): the tiler clips each piece to its triangle, so a mesh of split triangles
+// covers exactly what the triangles cover: ids equal brute force over the whole triangles, no
+// background, every pixel once.
+TEST(TilerRender, SplitPiecesCoverExactlyTheirTriangles) {
+  std::vector<tiler_test::TestScene::Tri> tris;
+  const int n = 6, lo = -900, step = 1800 / n;
+  std::mt19937 rng(19);
+  auto at = [&](int i, int j, int16_t* p) {
+    const bool inner = i > 0 && i < n && j > 0 && j < n;
+    p[0] = int16_t(lo + i * step + (inner ? (i * 37 + j * 11) % 61 - 30 : 0));
+    p[1] = int16_t(lo + j * step + (inner ? (i * 13 + j * 29) % 61 - 30 : 0));
+    p[2] = 0;
+  };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      tiler_test::TestScene::Tri a, b;
+      at(i, j, a.p[0]); at(i + 1, j, a.p[1]); at(i + 1, j + 1, a.p[2]);
+      at(i, j, b.p[0]); at(i + 1, j + 1, b.p[1]); at(i, j + 1, b.p[2]);
+      tris.push_back(a);
+      tris.push_back(b);
+    }
+  tiler_test::TestScene ts;
+  ts.build(tris);
+  // Split every triangle from vertex 0 to a point near the middle of edge 1-2, off it by one unit
+  // across the edge, alternately inside and outside.
+  std::vector<ml::BspPiece> pieces;
+  for (uint32_t t = 0; t < ts.triangles.size(); ++t) {
+    const ml::Triangle& tri = ts.triangles[t];
+    const int16_t* b = ts.vertices[tri.v[1]].position;
+    const int16_t* c = ts.vertices[tri.v[2]].position;
+    ml::Vertex m = ts.vertices[tri.v[1]];
+    m.position[0] = int16_t((b[0] + c[0]) / 2 + ((t % 2) ? 1 : -1) * (c[1] > b[1] ? 1 : -1));
+    m.position[1] = int16_t((b[1] + c[1]) / 2 + ((t % 2) ? 1 : -1) * (c[0] > b[0] ? -1 : 1));
+    const uint32_t mi = uint32_t(ts.vertices.size());
+    ts.vertices.push_back(m);
+    pieces.push_back(ml::BspPiece{{tri.v[0], tri.v[1], mi}, t});
+    pieces.push_back(ml::BspPiece{{tri.v[0], mi, tri.v[2]}, t});
+  }
+  ts.pieces = pieces;
+  ASSERT_EQ(ts.nodes.size(), 1u);
+  ts.nodes[0].first_piece = 0;
+  ts.nodes[0].piece_count = uint32_t(pieces.size());
+  ts.scene.bsp_pieces = ts.pieces.data();
+  ts.scene.bsp_piece_count = uint32_t(ts.pieces.size());
+  ts.scene.vertices = ts.vertices.data();
+  ts.scene.vertex_count = uint32_t(ts.vertices.size());
+  for (auto [w, h] : {std::pair<int, int>{160, 120}, {320, 240}, {97, 131}}) {
+    const ml::Camera cam = tiler_test::test_camera(w, h);
+    Frame f = render(ts.scene, cam, ml::ShadingMode::Ids);
+    ASSERT_TRUE(f.status.ok()) << f.status.message;
+    ml::View view;
+    ASSERT_TRUE(ml::make_view(cam, &view).ok());
+    std::vector<ml::Pixel> expect(size_t(w) * size_t(h), 0);
+    for (uint32_t t = 0; t < ts.triangles.size(); ++t) {
+      ml::Vec3i world[3];
+      ml::triangle_world(ts.scene, t, world);
+      ml::ScreenTriangle parts[ml::kMaxClipTriangles];
+      ASSERT_EQ(ml::project_triangle(view, world, parts), 1);
+      ml::TriangleSetup s;
+      ml::setup_triangle(parts[0], w, h, &s);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          if (ml::covers_pixel(s, x, y)) {
+            ASSERT_EQ(expect[size_t(y) * size_t(w) + size_t(x)], 0u) << "mesh overlaps";
+            expect[size_t(y) * size_t(w) + size_t(x)] = t + 1;
+          }
+    }
+    for (size_t p = 0; p < expect.size(); ++p) {
+      ASSERT_EQ(f.sink.count[p], 1);
+      ASSERT_NE(expect[p], 0u) << "test mesh must cover the screen";
+      ASSERT_EQ(f.sink.image[p], expect[p]) << "pixel " << p % size_t(w) << "," << p / size_t(w) << " at " << w << "x" << h;
+    }
+  }
+}
+
+TEST(TilerRender, ArenaTooSmallNamesBytesAndWritesNothing) {
+  std::mt19937 rng(6);
+  tiler_test::TestScene ts;
+  ts.build(tiler_test::random_scene(rng, 30, 100));
+  const ml::Camera cam = tiler_test::test_camera(320, 240);
+  const size_t need = ml::tiler_arena_bytes(ts.scene, cam, ml::RenderOptions{});
+  EXPECT_GT(need, 9936u);
+  EXPECT_LT(need, 12u * 1024u);  // the 320x240 working-memory target
+  for (size_t give : {size_t(0), size_t(100), need - 1}) {
+    Frame f = render(ts.scene, cam, ml::ShadingMode::Flat, nullptr, give ? give : 1);
+    EXPECT_EQ(f.status.code, ml::StatusCode::ArenaTooSmall);
+    EXPECT_EQ(f.status.value, need);
+    EXPECT_EQ(f.sink.begins, 0);
+    EXPECT_EQ(f.sink.calls, 0);
+  }
+  Frame ok = render(ts.scene, cam, ml::ShadingMode::Flat, nullptr, need);
+  EXPECT_TRUE(ok.status.ok());
+  EXPECT_LE(ok.stats.peak_arena_bytes, need);
+  EXPECT_EQ(ok.stats.pyramid_bytes, 9936u);
+}
+
+TEST(TilerRender, SceneWithoutBspIsUnsupported) {
+  std::mt19937 rng(6);
+  tiler_test::TestScene ts;
+  ts.build(tiler_test::random_scene(rng, 5, 100));
+  ts.scene.bsp_node_count = 0;
+  Frame f = render(ts.scene, tiler_test::test_camera(64, 64), ml::ShadingMode::Flat);
+  EXPECT_EQ(f.status.code, ml::StatusCode::Unsupported);
+  EXPECT_EQ(f.sink.calls, 0);
+}
+
+TEST(TilerRender, WorkImageSumsToCellsVisited) {
+  std::mt19937 rng(14);
+  tiler_test::TestScene ts;
+  ts.build(tiler_test::random_scene(rng, 60, 150));
+  const int w = 200, h = 150;  // not multiples of 64: partly off-screen cells
+  std::vector<uint32_t> q16(size_t(w) * size_t(h), 0);
+  ml::WorkImage work;
+  work.q16 = q16.data();
+  work.width = w;
+  work.height = h;
+  Frame f = render(ts.scene, tiler_test::test_camera(w, h), ml::ShadingMode::Flat, &work);
+  ASSERT_TRUE(f.status.ok());
+  uint64_t sum = 0;
+  for (uint32_t v : q16) sum += v;
+  // Each visit adds floor(65536 / on-screen pixels) to each on-screen pixel: just under 65536.
+  EXPECT_LE(sum, f.stats.cells_visited * 65536u);
+  EXPECT_GE(sum, f.stats.cells_visited * 65536u - f.stats.cells_visited * uint64_t(w) * h / 1000 - f.stats.cells_visited * 4096u);
+  EXPECT_GT(f.stats.cells_visited, 0u);
+}
+
+TEST(TilerRender, BackFacesCulledUnlessDoubleSided) {
+  // One single-sided triangle facing away from the camera, one double-sided facing away.
+  tiler_test::TestScene::Tri a, b;
+  const int16_t cw[3][2] = {{-400, -400}, {-400, 400}, {400, -400}};  // clockwise seen from +z
+  for (int i = 0; i < 3; ++i) {
+    a.p[i][0] = cw[i][0]; a.p[i][1] = cw[i][1]; a.p[i][2] = 0;
+    b.p[i][0] = int16_t(cw[i][0] / 2); b.p[i][1] = int16_t(cw[i][1] / 2); b.p[i][2] = 100;
+  }
+  a.double_sided = false;
+  b.double_sided = true;
+  tiler_test::TestScene ts;
+  ts.build({a, b});
+  Frame f = render(ts.scene, tiler_test::test_camera(120, 90), ml::ShadingMode::Ids);
+  ASSERT_TRUE(f.status.ok());
+  EXPECT_EQ(f.stats.triangles_drawn, 1u);
+  EXPECT_EQ(f.stats.triangles_culled, 1u);
+  for (ml::Pixel p : f.sink.image) EXPECT_NE(p, 1u);  // triangle 0 never shows
+}
+
+}  // namespace

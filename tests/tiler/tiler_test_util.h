@@ -1,0 +1,337 @@
+// Helpers for the tiler tests: random screen triangles, a recording writer and sink, pyramid
+// invariant checks, and a tiny in-memory scene (no blob) with a valid BSP.
+#pragma once
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <functional>
+#include <string>
+#include <random>
+#include <vector>
+
+#include "core/sink.h"
+#include "scene/scene.h"
+#include "tiler/pyramid.h"
+#include "tiler/tile.h"
+#include "view/view.h"
+
+namespace tiler_test {
+
+// A random projected triangle around a width x height screen (subpixels), ordered area2 > 0.
+// `span` scales the vertex spread (pixels); some land off screen on purpose.
+inline bool random_triangle(std::mt19937& rng, int width, int height, int span, ml::ScreenTriangle* t) {
+  std::uniform_int_distribution<int> cx(-width / 4 * 256, width * 5 / 4 * 256);
+  std::uniform_int_distribution<int> cy(-height / 4 * 256, height * 5 / 4 * 256);
+  std::uniform_int_distribution<int> d(-span * 256, span * 256);
+  const int x = cx(rng), y = cy(rng);
+  *t = ml::ScreenTriangle{};
+  for (int i = 0; i < 3; ++i) {
+    t->v[i].x = x + d(rng);
+    t->v[i].y = y + d(rng);
+    // Snap some vertices to pixel corners and centres to provoke ties.
+    if (rng() % 4 == 0) t->v[i].x &= ~255;
+    if (rng() % 4 == 0) t->v[i].y = (t->v[i].y & ~255) | 128;
+  }
+  int64_t area2 = (int64_t(t->v[1].x) - t->v[0].x) * (int64_t(t->v[2].y) - t->v[0].y) -
+                  (int64_t(t->v[1].y) - t->v[0].y) * (int64_t(t->v[2].x) - t->v[0].x);
+  if (area2 == 0) return false;
+  if (area2 < 0) {
+    std::swap(t->v[1], t->v[2]);
+    area2 = -area2;
+  }
+  t->area2 = area2;
+  t->front_facing = true;
+  return true;
+}
+
+// Records every write per sample.
+class RecordingWriter : public ml::CoverageWriter {
+ public:
+  RecordingWriter(int w, int h) : width(w), height(h), count(size_t(w) * size_t(h), 0), owner(size_t(w) * size_t(h), -1) {}
+  bool write(int x, int y, int w, int h) override {
+    ++calls;
+    if (x < 0 || y < 0 || w <= 0 || h <= 0 || x + w > width || y + h > height) {
+      out_of_bounds = true;
+      return true;
+    }
+    for (int yy = y; yy < y + h; ++yy)
+      for (int xx = x; xx < x + w; ++xx) {
+        ++count[size_t(yy) * size_t(width) + size_t(xx)];
+        owner[size_t(yy) * size_t(width) + size_t(xx)] = current;
+      }
+    return true;
+  }
+  int width, height;
+  std::vector<int> count;
+  std::vector<int> owner;
+  int current = 0;
+  int calls = 0;
+  bool out_of_bounds = false;
+};
+
+// A pyramid with its own memory.
+struct OwnedPyramid {
+  explicit OwnedPyramid(int w, int h) {
+    ml::PyramidLayout layout;
+    EXPECT_TRUE(ml::make_pyramid_layout(w, h, &layout));
+    memory.resize(ml::Pyramid::arena_bytes(layout) + 16);
+    ml::Arena arena(memory.data(), memory.size());
+    EXPECT_TRUE(pyramid.allocate(layout, arena));
+    pyramid.clear();
+  }
+  std::vector<uint8_t> bytes() const {
+    std::vector<uint8_t> out;
+    const ml::PyramidLayout& l = pyramid.layout;
+    for (int lev = 0; lev + 1 < l.levels; ++lev) {
+      const uint8_t* p = reinterpret_cast<const uint8_t*>(pyramid.triage[lev]);
+      out.insert(out.end(), p, p + size_t(l.cols[lev]) * size_t(l.rows[lev]) * 16);
+    }
+    const uint8_t* p = reinterpret_cast<const uint8_t*>(pyramid.blocks);
+    const int f = l.levels - 1;
+    out.insert(out.end(), p, p + size_t(l.cols[f]) * size_t(l.rows[f]) * 8);
+    return out;
+  }
+  std::vector<uint8_t> memory;
+  ml::Pyramid pyramid;
+};
+
+// Covered-sample bitmap implied by the pyramid: a sample is covered when its finest bit is set or
+// any ancestor subcell is covered (children below a covered subcell may be stale).
+inline std::vector<uint8_t> covered_samples(const ml::Pyramid& p) {
+  const ml::PyramidLayout& l = p.layout;
+  std::vector<uint8_t> out(size_t(l.width) * size_t(l.height), 0);
+  for (int y = 0; y < l.height; ++y)
+    for (int x = 0; x < l.width; ++x) {
+      bool cov = false;
+      for (int lev = 0; lev < l.levels && !cov; ++lev) {
+        const int s = l.shift(lev), sub = s - 3;
+        const uint64_t bit = uint64_t(1) << (((y >> sub) & 7) * 8 + ((x >> sub) & 7));
+        if (lev == l.finest()) cov = (p.block(x >> s, y >> s) & bit) != 0;
+        else cov = (p.mask(lev, x >> s, y >> s).c & bit) != 0;
+      }
+      out[size_t(y) * size_t(l.width) + size_t(x)] = cov;
+    }
+  return out;
+}
+
+// P1 and P2 over every mask that is not below a covered subcell. Returns a failure description or "".
+inline std::string check_pyramid(const ml::Pyramid& p) {
+  const ml::PyramidLayout& l = p.layout;
+  std::string err;
+  // Recursive walk from the root (test code: recursion is fine here).
+  std::function<void(int, int, int)> walk = [&](int lev, int mx, int my) {
+    if (!err.empty() || lev == l.finest()) return;
+    const ml::TriageMask& m = p.mask(lev, mx, my);
+    if (m.c & m.v) err = "P1: c & v != 0 at level " + std::to_string(lev);
+    const int s = l.shift(lev), sub = s - 3;
+    for (int bit = 0; bit < 64 && err.empty(); ++bit) {
+      const int cx = mx * 8 + (bit & 7), cy = my * 8 + (bit >> 3);
+      if ((cx << sub) >= l.width || (cy << sub) >= l.height) {
+        if (!(m.c >> bit & 1)) err = "off-screen subcell not covered";
+        continue;
+      }
+      if (m.c >> bit & 1) continue;  // stale children allowed
+      bool child_all, child_none;
+      if (lev + 1 == l.finest()) {
+        const uint64_t b = p.block(cx, cy);
+        child_all = b == ~uint64_t(0);
+        child_none = b == 0;
+      } else {
+        const ml::TriageMask& c = p.mask(lev + 1, cx, cy);
+        child_all = c.c == ~uint64_t(0);
+        child_none = c.v == ~uint64_t(0);
+      }
+      const bool vac = m.v >> bit & 1;
+      if (child_all) err = "P2: child all covered but parent subcell not covered";
+      else if (vac != child_none)
+        err = "P2: parent vacant=" + std::to_string(vac) + " but child vacant=" + std::to_string(child_none) +
+              " at level " + std::to_string(lev);
+      else walk(lev + 1, cx, cy);
+    }
+  };
+  walk(0, 0, 0);
+  return err;
+}
+
+// A sink that counts writes per pixel and keeps the image.
+class CountingSink : public ml::Sink {
+ public:
+  bool begin_frame(int w, int h) override {
+    ++begins;
+    width = w;
+    height = h;
+    image.assign(size_t(w) * size_t(h), 0xDEADBEEF);
+    count.assign(size_t(w) * size_t(h), 0);
+    return true;
+  }
+  bool write_block(int x, int y, int w, int h, const ml::Pixel* px, int stride) override {
+    ++calls;
+    for (int yy = 0; yy < h; ++yy)
+      for (int xx = 0; xx < w; ++xx) put(x + xx, y + yy, px[yy * stride + xx]);
+    return true;
+  }
+  bool fill_block(int x, int y, int w, int h, ml::Pixel v) override {
+    ++calls;
+    for (int yy = 0; yy < h; ++yy)
+      for (int xx = 0; xx < w; ++xx) put(x + xx, y + yy, v);
+    return true;
+  }
+  bool end_frame() override {
+    ++ends;
+    return true;
+  }
+  void put(int x, int y, ml::Pixel v) {
+    if (x < 0 || y < 0 || x >= width || y >= height) {
+      out_of_bounds = true;
+      return;
+    }
+    image[size_t(y) * size_t(width) + size_t(x)] = v;
+    ++count[size_t(y) * size_t(width) + size_t(x)];
+  }
+  int width = 0, height = 0;
+  int begins = 0, ends = 0, calls = 0;
+  bool out_of_bounds = false;
+  std::vector<ml::Pixel> image;
+  std::vector<int> count;
+};
+
+// An in-memory scene of triangles in planes z = const (world units), seen by a camera on +z looking
+// at the origin. The BSP has one node per distinct z, balanced, +z in front: for that camera a
+// valid front-to-back order. Vertices are stored with scale 1.0 and offset 0.
+struct TestScene {
+  struct Tri {
+    int16_t p[3][3];
+    bool double_sided = true;
+  };
+  std::vector<ml::Material> materials;
+  std::vector<ml::Batch> batches;
+  std::vector<ml::Vertex> vertices;
+  std::vector<ml::Triangle> triangles;
+  std::vector<ml::BspNode> nodes;
+  std::vector<ml::BspPiece> pieces;
+  ml::SceneInfo info{};
+  ml::Scene scene;
+
+  // Vertices are shared when equal (so meshes are watertight).
+  void build(const std::vector<Tri>& tris) {
+    materials.clear();
+    batches.clear();
+    vertices.clear();
+    triangles.clear();
+    nodes.clear();
+    pieces.clear();
+    for (int m = 0; m < 2; ++m) {
+      ml::Material mat{};
+      mat.base_color[0] = uint8_t(200 - 100 * m);
+      mat.base_color[1] = 120;
+      mat.base_color[2] = uint8_t(60 + 100 * m);
+      mat.base_color[3] = 255;
+      mat.texture = ml::kNone;
+      mat.double_sided = uint8_t(m == 0);
+      materials.push_back(mat);
+      ml::Batch b{};
+      b.material = uint32_t(m);
+      b.node = 0;
+      for (int i = 0; i < 3; ++i) b.scale[i] = 65536;
+      batches.push_back(b);
+    }
+    for (size_t t = 0; t < tris.size(); ++t) {
+      ml::Triangle tri{};
+      tri.batch = tris[t].double_sided ? 0 : 1;
+      for (int i = 0; i < 3; ++i) {
+        uint32_t found = uint32_t(vertices.size());
+        for (uint32_t v = 0; v < vertices.size(); ++v)
+          if (!std::memcmp(vertices[v].position, tris[t].p[i], sizeof(int16_t) * 3)) found = v;
+        if (found == vertices.size()) {
+          ml::Vertex v{};
+          std::memcpy(v.position, tris[t].p[i], sizeof(int16_t) * 3);
+          // Varied unit normals (Q1.14) so that Gouraud shading has something to interpolate.
+          static const int16_t kNormals[4][3] = {{0, 0, 16384}, {9830, 0, 13107}, {0, -9830, 13107}, {-9830, 0, 13107}};
+          for (int k = 0; k < 3; ++k) v.normal[k] = kNormals[vertices.size() % 4][k];
+          vertices.push_back(v);
+        }
+        tri.v[i] = found;
+      }
+      triangles.push_back(tri);
+    }
+    batches[0].first_vertex = batches[1].first_vertex = 0;
+    batches[0].vertex_count = batches[1].vertex_count = uint32_t(vertices.size());
+    batches[0].triangle_count = batches[1].triangle_count = uint32_t(triangles.size());
+    // Planes: distinct z values, sorted.
+    std::vector<int> zs;
+    for (const Tri& t : tris) zs.push_back(t.p[0][2]);
+    std::sort(zs.begin(), zs.end());
+    zs.erase(std::unique(zs.begin(), zs.end()), zs.end());
+    uint32_t depth = 0;
+    std::function<uint32_t(int, int, uint32_t)> make = [&](int lo, int hi, uint32_t d) -> uint32_t {
+      if (lo > hi) return ml::kNone;
+      depth = std::max(depth, d);
+      const int mid = (lo + hi) / 2;
+      const uint32_t id = uint32_t(nodes.size());
+      nodes.push_back(ml::BspNode{});
+      ml::BspNode n{};
+      n.normal[2] = 1 << 30;
+      n.d = int64_t(zs[size_t(mid)]) * (int64_t(1) << 30);
+      n.first_piece = uint32_t(pieces.size());
+      for (size_t t = 0; t < tris.size(); ++t)
+        if (tris[t].p[0][2] == zs[size_t(mid)])
+          pieces.push_back(ml::BspPiece{{triangles[t].v[0], triangles[t].v[1], triangles[t].v[2]}, uint32_t(t)});
+      n.piece_count = uint32_t(pieces.size()) - n.first_piece;
+      n.front = make(mid + 1, hi, d + 1);
+      n.back = make(lo, mid - 1, d + 1);
+      nodes[id] = n;
+      return id;
+    };
+    make(0, int(zs.size()) - 1, 1);
+    info = ml::SceneInfo{};
+    info.sphere_radius = 1000;
+    info.bsp_depth = depth;
+    scene = ml::Scene{};
+    scene.info = &info;
+    scene.materials = materials.data();
+    scene.material_count = uint32_t(materials.size());
+    scene.batches = batches.data();
+    scene.batch_count = uint32_t(batches.size());
+    scene.vertices = vertices.data();
+    scene.vertex_count = uint32_t(vertices.size());
+    scene.triangles = triangles.data();
+    scene.triangle_count = uint32_t(triangles.size());
+    scene.bsp_nodes = nodes.data();
+    scene.bsp_node_count = uint32_t(nodes.size());
+    scene.bsp_pieces = pieces.data();
+    scene.bsp_piece_count = uint32_t(pieces.size());
+  }
+};
+
+inline ml::Camera test_camera(int w, int h) {
+  ml::Camera c;
+  c.eye = ml::Vec3i{0, 0, 1000};
+  c.target = ml::Vec3i{0, 0, 0};
+  c.up = ml::Vec3i{0, 1, 0};
+  c.fov_deg_q16 = 60 << 16;
+  c.near = 1;
+  c.width = w;
+  c.height = h;
+  return c;
+}
+
+// Random triangles in a few z planes in front of test_camera.
+inline std::vector<TestScene::Tri> random_scene(std::mt19937& rng, int count, int spread) {
+  std::vector<TestScene::Tri> out;
+  std::uniform_int_distribution<int> xy(-700, 700), d(-spread, spread), zi(0, 7);
+  for (int i = 0; i < count; ++i) {
+    TestScene::Tri t;
+    const int cx = xy(rng), cy = xy(rng), z = zi(rng) * 60 - 200;
+    for (int v = 0; v < 3; ++v) {
+      t.p[v][0] = int16_t(cx + d(rng));
+      t.p[v][1] = int16_t(cy + d(rng));
+      t.p[v][2] = int16_t(z);
+    }
+    t.double_sided = rng() % 4 != 0;
+    out.push_back(t);
+  }
+  return out;
+}
+
+}  // namespace tiler_test
