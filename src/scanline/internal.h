@@ -1,0 +1,95 @@
+// Internals of the scanline renderer shared with its tests. Formats (docs/scanline.md):
+// - Sample lattice: sample (X, Y) lies at subpixel ((256 X + ox) / den, (256 Y + oy) / den).
+//   aa = 1: den = 1, ox = oy = 128 (pixel centres, as src/view and the tiler);
+//   aa = l > 1: den = l - 1, ox = oy = 0, so samples sit at k / (l - 1) pixel and those on pixel
+//   borders are shared with the neighbours (Woo & Chall §3.4). Edge functions are evaluated as
+//   E * den, exactly, in int64.
+// - Depth: Q16 of ScreenVertex::depth, as a plane z(X, Y) = z0 + gx X + gy Y held modulo 2^64
+//   (uint64 wrap-around): the true value inside the triangle is in [0, 2^46], so the wrapped sum is
+//   exact whatever the size of the intermediate terms.
+#pragma once
+#include <stdint.h>
+
+#include "core/fixed.h"
+#include "core/sink.h"
+
+namespace ml {
+namespace scan {
+
+struct Lattice {
+  int l;            // samples per pixel per axis actually used (Ids and Lines modes use 1)
+  int32_t den;      // 1 or l - 1
+  int32_t ox, oy;   // sample origin offset, in subpixels * den
+  int32_t nx, ny;   // sample columns and rows
+  int32_t q;        // samples per pixel step (1 when l == 1, else l - 1)
+};
+
+Lattice make_lattice(int width, int height, int aa);
+
+// ySortList element (§3.1): 8 bytes.
+struct YSortEntry {
+  uint32_t ref;     // triangle id * 8 + piece index (pieces from project_triangle)
+  uint16_t min_y;   // first and last sample row the piece's bounding box touches
+  uint16_t max_y;
+};
+static_assert(sizeof(YSortEntry) == 8, "YSortEntry layout");
+
+// yActiveList element: the piece's screen-space parameters (§4) and its span on the current row.
+enum : uint8_t {
+  kBiasMask = 7,        // bit i: edge i is not top-left (its c is one smaller, view.h)
+  kFront = 8,
+  kColorsReady = 16,
+  kSmooth = 32,
+  kBlend = 64,
+  kWon = 128,           // won at least one sample (Stats::triangles_drawn)
+};
+struct ActiveTri {
+  uint64_t z_row;       // depth Q16 at X = 0 of the current row (mod 2^64)
+  uint64_t gx, gy;      // depth Q16 per sample step in X and Y (mod 2^64)
+  uint64_t z_run;       // depth Q16 at the sweep's current sample
+  int32_t vx[3], vy[3]; // piece vertices, subpixels, area2 > 0 order
+  uint32_t id;          // triangle id
+  Pixel color[3];       // piece vertex colours (kColorsReady), color[0] = flat colour unless kSmooth
+  uint16_t min_x, max_x;  // span on the current row; min_x = 0xFFFF when empty
+  uint16_t max_y;
+  uint8_t flags;
+  uint8_t perm;         // unclipped piece: original vertex of piece vertex j in bits 2j..2j+1; 0xFF clipped
+};
+static_assert(sizeof(ActiveTri) == 80, "ActiveTri layout");
+
+constexpr uint16_t kNoSpan = 0xFFFF;
+
+// Span [min_x, max_x] of sample row Y for the piece: exactly the samples where all three edge
+// functions of src/view (top-left rule folded in) are >= 0, clamped to [0, nx). Returns false if empty.
+bool row_span(const ActiveTri& t, const Lattice& lat, int32_t y, int32_t* min_x, int32_t* max_x);
+
+// Depth plane of a piece (vertices vx/vy in ActiveTri, depths d[3]): sets z_row for row 0, gx, gy.
+void depth_plane(ActiveTri* t, const uint32_t depth[3], const Lattice& lat);
+
+// Barycentric weights (Q16, summing to 65536) of the piece's vertices at sample (X, Y).
+void sample_weights(const ActiveTri& t, const Lattice& lat, int32_t x, int32_t y, int32_t w[3]);
+
+// Weighted vertex colours.
+Pixel interpolate_color(const Pixel c[3], const int32_t w[3]);
+
+// Interpolated vertex normal (Q1.14 in, Q1.14 out) renormalized with Newton steps
+// x1 = x0 (1.5 - 0.5 |x0|^2) (Woo & Chall §4.4, core/fixed.h newton_renormalize_q14), no sqrt.
+Vec3i interpolate_normal(const int16_t n[3][3], const int32_t w[3], int steps = 2);
+
+// Interpolated texture coordinates (Q16.16).
+void interpolate_uv(const int32_t uv[3][2], const int32_t w[3], int32_t out[2]);
+
+// Deterministic xorshift32 (seed 0 is mapped to a fixed non-zero state).
+struct Rng {
+  uint32_t s;
+  explicit Rng(uint32_t seed) : s(seed ? seed : 0x9E3779B9u) {}
+  uint32_t next() {
+    s ^= s << 13;
+    s ^= s >> 17;
+    s ^= s << 5;
+    return s;
+  }
+};
+
+}  // namespace scan
+}  // namespace ml

@@ -1,0 +1,758 @@
+// Woo & Chall's scanline renderer in integers. The algorithm, formats and memory formula are
+// described in docs/scanline.md; this file follows the paper's sections in order.
+#include "scanline/scanline.h"
+
+#include "scanline/internal.h"
+#include "scanline/sort.h"
+#include "scanline/wide.h"
+
+namespace ml {
+namespace scan {
+
+// ---- sample lattice and per-piece geometry (§3.2, §4) -----------------------------------------
+
+Lattice make_lattice(int width, int height, int aa) {
+  Lattice lat;
+  lat.l = aa;
+  if (aa <= 1) {
+    lat.l = 1;
+    lat.den = 1;
+    lat.ox = lat.oy = kSubpixelHalf;
+    lat.q = 1;
+    lat.nx = width;
+    lat.ny = height;
+  } else {
+    lat.den = aa - 1;
+    lat.ox = lat.oy = 0;
+    lat.q = aa - 1;
+    lat.nx = width * lat.q + 1;
+    lat.ny = height * lat.q + 1;
+  }
+  return lat;
+}
+
+// Lattice rows/columns whose sample coordinate lies in [lo, hi] subpixels (o = origin offset).
+static inline int64_t lattice_first(int64_t lo, const Lattice& lat, int32_t o) {
+  return -div_floor(-(lo * lat.den - o), kSubpixelOne);
+}
+static inline int64_t lattice_last(int64_t hi, const Lattice& lat, int32_t o) {
+  return div_floor(hi * lat.den - o, kSubpixelOne);
+}
+
+bool row_span(const ActiveTri& t, const Lattice& lat, int32_t y, int32_t* min_x, int32_t* max_x) {
+  int64_t lo = 0, hi = lat.nx - 1;
+  const int64_t v = int64_t(y) * kSubpixelOne + lat.oy;
+  for (int i = 0; i < 3; ++i) {
+    const int j = i == 2 ? 0 : i + 1;
+    // Edge v_i -> v_j of src/view: E = a x + b y + c, a = Py - Qy, b = Qx - Px, c folded with the
+    // top-left rule. Scaled by den at lattice sample (X, Y): E*den = K X + R.
+    const int64_t a = int64_t(t.vy[i]) - t.vy[j];
+    const int64_t b = int64_t(t.vx[j]) - t.vx[i];
+    const int64_t bias = (t.flags >> i) & 1;
+    const int64_t r = b * (v - int64_t(t.vy[i]) * lat.den) + a * (lat.ox - int64_t(t.vx[i]) * lat.den) -
+                      bias * lat.den;
+    if (a > 0) {
+      const int64_t first = -div_floor(r, a * kSubpixelOne);  // K X >= -R
+      if (first > lo) lo = first;
+    } else if (a < 0) {
+      const int64_t last = div_floor(r, -a * kSubpixelOne);
+      if (last < hi) hi = last;
+    } else if (r < 0) {
+      return false;
+    }
+    if (lo > hi) return false;
+  }
+  *min_x = int32_t(lo);
+  *max_x = int32_t(hi);
+  return true;
+}
+
+void depth_plane(ActiveTri* t, const uint32_t depth[3], const Lattice& lat) {
+  // Barycentric weight of vertex j = E_opp(j) / area2 with E_opp(j) the unbiased edge v_{j+1} -> v_{j+2}
+  // (edge index j+1). depth = sum d_j E_opp(j) / area2, a plane in (X, Y):
+  //   z0 = sum d_j E_opp(j)(X=0,Y=0) * den, gx = sum d_j a_opp(j) * 256, gy = sum d_j b_opp(j) * 256,
+  // all over area2 * den, times 2^16 (Q16).
+  int64_t d[3], cz[3], ca[3], cb[3];
+  for (int j = 0; j < 3; ++j) {
+    const int p = j == 2 ? 0 : j + 1;
+    const int q = p == 2 ? 0 : p + 1;
+    const int64_t a = int64_t(t->vy[p]) - t->vy[q];
+    const int64_t b = int64_t(t->vx[q]) - t->vx[p];
+    d[j] = depth[j];
+    ca[j] = a;
+    cb[j] = b;
+    cz[j] = a * (lat.ox - int64_t(t->vx[p]) * lat.den) + b * (lat.oy - int64_t(t->vy[p]) * lat.den);
+  }
+  const int64_t area2 = (int64_t(t->vx[1]) - t->vx[0]) * (int64_t(t->vy[2]) - t->vy[0]) -
+                        (int64_t(t->vy[1]) - t->vy[0]) * (int64_t(t->vx[2]) - t->vx[0]);
+  const int64_t den = area2 * lat.den;
+  t->z_row = mul_add3_div_round_low(d, cz, 16, den);
+  t->gx = mul_add3_div_round_low(d, ca, 16 + kSubpixelBits, den);
+  t->gy = mul_add3_div_round_low(d, cb, 16 + kSubpixelBits, den);
+}
+
+void sample_weights(const ActiveTri& t, const Lattice& lat, int32_t x, int32_t y, int32_t w[3]) {
+  const int64_t u = int64_t(x) * kSubpixelOne + lat.ox, v = int64_t(y) * kSubpixelOne + lat.oy;
+  int64_t e[3];
+  for (int j = 0; j < 3; ++j) {
+    const int p = j == 2 ? 0 : j + 1;
+    const int q = p == 2 ? 0 : p + 1;
+    const int64_t a = int64_t(t.vy[p]) - t.vy[q];
+    const int64_t b = int64_t(t.vx[q]) - t.vx[p];
+    e[j] = a * (u - int64_t(t.vx[p]) * lat.den) + b * (v - int64_t(t.vy[p]) * lat.den);
+    if (e[j] < 0) e[j] = 0;  // a covered sample on a biased edge: weight 0
+  }
+  int64_t total = e[0] + e[1] + e[2];
+  if (total <= 0) { w[0] = kWeightOne; w[1] = w[2] = 0; return; }
+  // Keep numerators below 2^46 so that << 16 fits.
+  const int shift = max_of(0, bit_length(uint64_t(total)) - 46);
+  const int64_t t1 = (e[1] >> shift) << kWeightBits, t2 = (e[2] >> shift) << kWeightBits;
+  const int64_t den = max_of<int64_t>(1, total >> shift);
+  w[1] = int32_t(div_round(t1, den));
+  w[2] = int32_t(div_round(t2, den));
+  w[0] = kWeightOne - w[1] - w[2];
+}
+
+Pixel interpolate_color(const Pixel c[3], const int32_t w[3]) {
+  uint32_t out = 0;
+  for (int s = 16; s >= 0; s -= 8) {
+    int64_t sum = 0;
+    for (int j = 0; j < 3; ++j) sum += int64_t((c[j] >> s) & 0xFF) * w[j];
+    out |= uint32_t(clamp_to<int64_t>((sum + (1 << 15)) >> kWeightBits, 0, 255)) << s;
+  }
+  return out;
+}
+
+Vec3i interpolate_normal(const int16_t n[3][3], const int32_t w[3], int steps) {
+  int64_t acc[3] = {0, 0, 0};
+  for (int j = 0; j < 3; ++j)
+    for (int k = 0; k < 3; ++k) acc[k] += int64_t(n[j][k]) * w[j];
+  Vec3i v{int32_t(shift_round(acc[0], kWeightBits)), int32_t(shift_round(acc[1], kWeightBits)),
+          int32_t(shift_round(acc[2], kWeightBits))};
+  for (int i = 0; i < steps; ++i) v = newton_renormalize_q14(v);
+  return v;
+}
+
+void interpolate_uv(const int32_t uv[3][2], const int32_t w[3], int32_t out[2]) {
+  for (int k = 0; k < 2; ++k) {
+    int64_t acc = 0;
+    for (int j = 0; j < 3; ++j) acc += int64_t(uv[j][k]) * w[j];
+    out[k] = int32_t(shift_round(acc, kWeightBits));
+  }
+}
+
+// ---- setup shared by scanline_arena_bytes and scanline_render ----------------------------------
+
+namespace {
+
+constexpr uint32_t kMaxTriangles = 1u << 29;  // ref = id * 8 + piece
+constexpr Pixel kLineColor = 0xFFFFFF;
+constexpr int kShadeTolerance = 32;           // per channel, forces supersampled shading (§3.4.2)
+constexpr uint32_t kValid = 1u << 24;         // keep_rgb: holds a shaded colour
+constexpr uint32_t kForce = 1u << 25;         // keep_rgb: supersample shading in this pixel
+
+struct Setup {
+  View view;
+  Lattice lat;
+  int width = 0, height = 0;
+  bool colour = true;  // not Ids / Lines
+  bool accumulate = false;  // l > 1 colour: per-pixel sums
+};
+
+Status make_setup(const Scene& scene, const Camera& camera, const RenderOptions& options, Setup* s) {
+  if (options.aa < 1 || options.aa > 8) return error(StatusCode::InvalidArgument, "aa must be 1..8");
+  if (scene.triangle_count >= kMaxTriangles) return error(StatusCode::Unsupported, "too many triangles");
+  Status st = make_view(camera, &s->view);
+  if (!st.ok()) return st;
+  s->width = camera.width;
+  s->height = camera.height;
+  s->colour = options.shading != ShadingMode::Ids && options.shading != ShadingMode::Lines;
+  s->lat = make_lattice(camera.width, camera.height, s->colour ? options.aa : 1);
+  s->accumulate = s->colour && s->lat.l > 1;
+  return ok_status();
+}
+
+inline const Material& material_of(const Scene& scene, uint32_t id) {
+  return scene.materials[scene.batches[scene.triangles[id].batch].material];
+}
+
+// A material that a MASK cutout removes entirely (base colour alpha is constant over the triangle).
+inline bool cut_out(const Material& m) {
+  return m.alpha_mode == uint8_t(AlphaMode::Mask) && m.base_color[3] < m.alpha_cutoff;
+}
+
+// Calls f(ref, min_y, max_y) for every piece that can cover a sample; returns the triangles that
+// gave none (culled: back-facing, cut out, behind the eye, off screen, degenerate).
+template <typename F>
+uint32_t for_each_piece(const Scene& scene, const Setup& s, F f) {
+  uint32_t culled = 0;
+  const Lattice& lat = s.lat;
+  for (uint32_t id = 0; id < scene.triangle_count; ++id) {
+    const Material& m = material_of(scene, id);
+    if (cut_out(m)) { ++culled; continue; }
+    Vec3i world[3];
+    triangle_world(scene, id, world);
+    // Back faces are culled in world space before projecting (exact, as the tiler does).
+    const int facing = triangle_facing(s.view, world);
+    if (facing == 0 || (facing < 0 && !m.double_sided)) { ++culled; continue; }
+    ScreenTriangle pieces[kMaxClipTriangles];
+    const int count = project_triangle(s.view, world, facing, pieces);
+    bool any = false;
+    for (int k = 0; k < count; ++k) {
+      const ScreenTriangle& t = pieces[k];
+      int32_t x0 = t.v[0].x, x1 = x0, y0 = t.v[0].y, y1 = y0;
+      for (int j = 1; j < 3; ++j) {
+        x0 = min_of(x0, t.v[j].x); x1 = max_of(x1, t.v[j].x);
+        y0 = min_of(y0, t.v[j].y); y1 = max_of(y1, t.v[j].y);
+      }
+      const int64_t fx = max_of<int64_t>(0, lattice_first(x0, lat, lat.ox));
+      const int64_t lx = min_of<int64_t>(lat.nx - 1, lattice_last(x1, lat, lat.ox));
+      const int64_t fy = max_of<int64_t>(0, lattice_first(y0, lat, lat.oy));
+      const int64_t ly = min_of<int64_t>(lat.ny - 1, lattice_last(y1, lat, lat.oy));
+      if (fx > lx || fy > ly) continue;
+      f(id * 8 + uint32_t(k), uint16_t(fy), uint16_t(ly));
+      any = true;
+    }
+    if (!any) ++culled;
+  }
+  return culled;
+}
+
+inline size_t round8(size_t v) { return (v + 7) & ~size_t(7); }
+
+struct Sizes {
+  size_t ysort, drawn, temp, yactive, ord, xactive, keep, acc;
+  size_t phase1() const { return 7 + ysort + drawn + temp; }
+  size_t phase2() const { return 7 + ysort + drawn + yactive + ord + xactive + keep + acc; }
+  size_t need() const { return max_of(phase1(), phase2()); }
+};
+
+Sizes sizes_for(const Scene& scene, const Setup& s, uint32_t n, uint32_t m) {
+  Sizes z;
+  z.ysort = round8(size_t(n) * sizeof(YSortEntry));
+  z.drawn = round8(((size_t(scene.triangle_count) + 31) / 32) * 4);
+  z.temp = round8(size_t(n) * 2);
+  z.yactive = round8(size_t(m) * sizeof(ActiveTri));
+  z.ord = round8(size_t(m) * 4);
+  z.xactive = round8(size_t(m) * 4);
+  z.keep = 2 * round8(size_t(s.width) * 4);
+  z.acc = s.accumulate ? round8(size_t(s.width) * 8) : 0;
+  return z;
+}
+
+// n and m_max without any arena: a difference array over blocks of kBlockRows sample rows on the
+// stack (1 KiB), one projection pass per block.
+constexpr int kBlockRows = 255;
+void count_n_m(const Scene& scene, const Setup& s, uint32_t* n_out, uint32_t* m_out) {
+  uint32_t n = 0, m = 0;
+  for (int32_t base = 0; base < s.lat.ny; base += kBlockRows) {
+    int32_t diff[kBlockRows + 1];
+    for (int i = 0; i <= kBlockRows; ++i) diff[i] = 0;
+    const int32_t end = base + kBlockRows;  // exclusive
+    uint32_t count = 0;
+    for_each_piece(scene, s, [&](uint32_t, uint16_t y0, uint16_t y1) {
+      ++count;
+      if (y1 < base || y0 >= end) return;
+      diff[max_of<int32_t>(y0, base) - base] += 1;
+      if (y1 + 1 < end) diff[y1 + 1 - base] -= 1;
+    });
+    n = count;
+    int32_t run = 0;
+    for (int i = 0; i < kBlockRows; ++i) {
+      run += diff[i];
+      if (uint32_t(run) > m) m = uint32_t(run);
+    }
+  }
+  *n_out = n;
+  *m_out = m;
+}
+
+// m_max from the ySortList sorted by min_y and its max_y values sorted (temp): at each activation,
+// active = activated so far - finished before this row.
+uint32_t m_from_sorted(const YSortEntry* ys, uint16_t* max_ys, uint32_t n, uint64_t* work) {
+  quick_sort(max_ys, n, [](uint16_t v) { return v; }, work);
+  uint32_t m = 0, j = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    while (j < n && max_ys[j] < ys[i].min_y) ++j;
+    const uint32_t active = i + 1 - j;
+    if (active > m) m = active;
+  }
+  return m;
+}
+
+// ---- the render ---------------------------------------------------------------------------------
+
+struct Renderer {
+  const Scene* scene;
+  const RenderOptions* opt;
+  Setup s;
+  Light light;
+  Stats* stats;
+  Sink* sink;
+  Rng rng{1};
+  uint32_t p_threshold = 0;  // shade stochastically when rng < threshold: P = 1 / (l + 1)
+
+  YSortEntry* ys = nullptr;
+  uint32_t n = 0, ys_next = 0;
+  uint32_t* drawn = nullptr;
+  ActiveTri* act = nullptr;
+  uint32_t* ord = nullptr;   // live slots sorted by min_x
+  uint32_t* xact = nullptr;
+  uint32_t m = 0, live = 0, high = 0;
+  uint32_t free_head = 0xFFFFFFFFu;  // finished slots, linked through ActiveTri::id
+  uint32_t* keep_surface = nullptr;  // keepObj: surface key per pixel column (0 = none); output row
+  uint32_t* keep_rgb = nullptr;      // keepObj: last colour | kValid | kForce
+  uint64_t* acc = nullptr;           // l > 1: per-pixel channel sums, 21 bits each
+  Pixel bg = 0;
+
+  // per sample row (l > 1)
+  int32_t cur_px = 0;
+  uint64_t cur_sum = 0;
+  int32_t row_kind = 0;  // 0 interior, 1 top of frame, 2 shared border, 3 bottom of frame
+
+  Status fail_sink() { return error(StatusCode::SinkFailed, "sink refused a write"); }
+
+  // --- activation (§3.1, §4.1) ---
+  void activate(const YSortEntry& e, int32_t y) {
+    const uint32_t id = e.ref >> 3;
+    const int k = int(e.ref & 7);
+    Vec3i world[3];
+    triangle_world(*scene, id, world);
+    ScreenTriangle pieces[kMaxClipTriangles];
+    project_triangle(s.view, world, pieces);  // deterministic: same pieces as the ySortList pass
+    const ScreenTriangle& t = pieces[k];
+    uint32_t slot;
+    if (free_head != 0xFFFFFFFFu) { slot = free_head; free_head = act[slot].id; }
+    else slot = high++;
+    ActiveTri& a = act[slot];
+    uint8_t flags = 0;
+    for (int i = 0; i < 3; ++i) {
+      a.vx[i] = t.v[i].x;
+      a.vy[i] = t.v[i].y;
+    }
+    for (int i = 0; i < 3; ++i) {
+      const int j = i == 2 ? 0 : i + 1;
+      const int64_t ea = int64_t(a.vy[i]) - a.vy[j], eb = int64_t(a.vx[j]) - a.vx[i];
+      if (!(ea > 0 || (ea == 0 && eb > 0))) flags |= uint8_t(1 << i);  // view.h top-left rule
+    }
+    if (t.front_facing) flags |= kFront;
+    const Material& mat = material_of(*scene, id);
+    if (mat.alpha_mode == uint8_t(AlphaMode::Blend) && s.colour) flags |= kBlend;
+    const uint32_t depth[3] = {t.v[0].depth, t.v[1].depth, t.v[2].depth};
+    depth_plane(&a, depth, s.lat);
+    a.z_row += a.gy * uint64_t(int64_t(y));
+    a.id = id;
+    a.max_y = e.max_y;
+    a.min_x = kNoSpan;
+    a.max_x = 0;
+    // Unclipped pieces keep the original vertices (possibly reordered): colours can wait until the
+    // first shading call. Clipped pieces blend vertex colours by their weights now.
+    uint8_t perm = 0;
+    for (int j = 0; j < 3 && perm != 0xFF; ++j) {
+      int which = -1;
+      for (int c = 0; c < 3; ++c)
+        if (t.v[j].weight[c] == kWeightOne) which = c;
+      if (which < 0) perm = 0xFF;
+      else perm = uint8_t(perm | (which << (2 * j)));
+    }
+    a.perm = perm;
+    a.flags = flags;
+    if (perm == 0xFF && s.colour) {
+      TriangleColors colors;
+      shade_triangle(*scene, light, opt->shading, id, t.front_facing, &colors);
+      for (int j = 0; j < 3; ++j) a.color[j] = colors.smooth ? blend_vertex_color(colors, t.v[j]) : colors.flat;
+      a.flags |= kColorsReady;
+      if (colors.smooth) a.flags |= kSmooth;
+    }
+    ord[live++] = slot;
+  }
+
+  void ensure_colors(ActiveTri& a) {
+    if (a.flags & kColorsReady) return;
+    TriangleColors colors;
+    shade_triangle(*scene, light, opt->shading, a.id, (a.flags & kFront) != 0, &colors);
+    if (colors.smooth) {
+      for (int j = 0; j < 3; ++j) a.color[j] = colors.vertex[(a.perm >> (2 * j)) & 3];
+      a.flags |= kSmooth;
+    } else {
+      a.color[0] = colors.flat;
+    }
+    a.flags |= kColorsReady;
+  }
+
+  // One shading call (§4.4): the colour of piece `a` at sample (x, y).
+  Pixel shade(ActiveTri& a, int32_t x, int32_t y) {
+    ++stats->shading_calls;
+    ensure_colors(a);
+    if (!(a.flags & kSmooth)) return a.color[0];
+    int32_t w[3];
+    sample_weights(a, s.lat, x, y, w);
+    return interpolate_color(a.color, w);
+  }
+
+  void mark_drawn(ActiveTri& a) {
+    if (a.flags & kWon) return;
+    a.flags |= kWon;
+    uint32_t& word = drawn[a.id >> 5];
+    const uint32_t bit = 1u << (a.id & 31);
+    if (!(word & bit)) { word |= bit; ++stats->triangles_drawn; }
+  }
+
+  uint32_t surface_key(const ActiveTri& a) const {
+    // Woo's keepObj keys on the surface, not the triangle: for Gouraud shading the smooth surface is
+    // the batch (one glTF primitive); flat colours are per triangle, so there the triangle is the key.
+    if (opt->shading == ShadingMode::Gouraud) {
+      const uint32_t batch = scene->triangles[a.id].batch;
+      return 0x80000000u | (batch << 1) | ((a.flags & kFront) ? 1u : 0u);
+    }
+    return a.id + 1;
+  }
+
+  // --- per-sample output for l > 1: shared border samples feed both pixels -----------------------
+  static uint64_t pack(Pixel c) {
+    return (uint64_t((c >> 16) & 0xFF) << 42) | (uint64_t((c >> 8) & 0xFF) << 21) | uint64_t(c & 0xFF);
+  }
+  Pixel finish(uint64_t sum) const {
+    const uint32_t l2 = uint32_t(s.lat.l * s.lat.l);
+    const uint32_t r = uint32_t((sum >> 42) & 0x1FFFFF), g = uint32_t((sum >> 21) & 0x1FFFFF),
+                   b = uint32_t(sum & 0x1FFFFF);
+    return rgb((r + l2 / 2) / l2, (g + l2 / 2) / l2, (b + l2 / 2) / l2);
+  }
+  void commit(int32_t px, uint64_t sum) {
+    switch (row_kind) {
+      case 0: acc[px] += sum; break;
+      case 1: acc[px] = sum; break;
+      case 2: keep_surface[px] = finish(acc[px] + sum); acc[px] = sum; break;
+      default: keep_surface[px] = finish(acc[px] + sum); break;
+    }
+  }
+  // Samples [x0, x1] of the current row all have colour c (x0 is the next sample in order).
+  void emit_run(int32_t x0, int32_t x1, Pixel c) {
+    if (!s.accumulate) {
+      for (int32_t x = x0; x <= x1; ++x) keep_surface[x] = c;
+      return;
+    }
+    const uint64_t pc = pack(c);
+    const int32_t q = s.lat.q;
+    while (x0 <= x1 && cur_px < s.width) {
+      const int32_t right = (cur_px + 1) * q;  // right border sample of cur_px
+      if (x1 < right) { cur_sum += pc * uint64_t(x1 - x0 + 1); return; }
+      cur_sum += pc * uint64_t(right - x0 + 1);
+      commit(cur_px, cur_sum);
+      ++cur_px;
+      cur_sum = pc;  // the border sample is also the next pixel's left sample
+      x0 = right + 1;
+    }
+  }
+
+  static int channel_diff(uint32_t a, uint32_t b) {
+    int d = 0;
+    for (int sft = 0; sft <= 16; sft += 8) {
+      const int x = int((a >> sft) & 0xFF) - int((b >> sft) & 0xFF);
+      d = max_of(d, x < 0 ? -x : x);
+    }
+    return d;
+  }
+
+  // Colour of one covered sample (§3, §3.4). k entries in xact; their z_run are already one step ahead.
+  Pixel resolve_colour(int32_t x, int32_t y, uint32_t k, uint32_t best) {
+    ActiveTri& front = act[best];
+    if (front.flags & kBlend) return composite(x, y, k);
+    mark_drawn(front);
+    if (s.lat.l == 1) return shade(front, x, y);
+    const int32_t c = min_of(x / s.lat.q, s.width - 1);
+    const uint32_t key = surface_key(front);
+    uint32_t& kr = keep_rgb[c];
+    bool need = keep_surface[c] != key || (kr & kForce);
+    if (!need) need = rng.next() < p_threshold;  // adaptive-stochastic shading (§3.4.2)
+    if (!need) return kr & 0xFFFFFF;
+    const Pixel col = shade(front, x, y);
+    bool differ = (kr & kValid) && channel_diff(kr, col) > kShadeTolerance;
+    if (c > 0 && (keep_rgb[c - 1] & kValid) && channel_diff(keep_rgb[c - 1], col) > kShadeTolerance) differ = true;
+    if (c + 1 < s.width && (keep_rgb[c + 1] & kValid) && channel_diff(keep_rgb[c + 1], col) > kShadeTolerance)
+      differ = true;
+    uint32_t force = kr & kForce;
+    if (differ) {
+      force = kForce;
+      if (c > 0) keep_rgb[c - 1] |= kForce;
+      if (c + 1 < s.width) keep_rgb[c + 1] |= kForce;
+    }
+    kr = col | kValid | force;
+    keep_surface[c] = key;
+    return col;
+  }
+
+  // Front-to-back compositing (§3, pseudo-code "Do until visible surface is opaque or background").
+  Pixel composite(int32_t x, int32_t y, uint32_t k) {
+    int64_t t = int64_t(1) << 24;  // transmittance, Q24
+    int64_t accum[3] = {0, 0, 0};  // Q24 * 255
+    bool have_prev = false;
+    int64_t prev_z = 0;
+    uint32_t prev_id = 0;
+    while (t > 0) {
+      int32_t pick = -1;
+      int64_t pz = 0;
+      for (uint32_t j = 0; j < k; ++j) {
+        const ActiveTri& a = act[xact[j]];
+        const int64_t z = int64_t(a.z_run - a.gx);
+        if (have_prev && (z > prev_z || (z == prev_z && a.id <= prev_id))) continue;  // already used
+        if (pick < 0 || z > pz || (z == pz && a.id < act[xact[pick]].id)) { pick = int32_t(j); pz = z; }
+      }
+      if (pick < 0) break;
+      ActiveTri& a = act[xact[pick]];
+      have_prev = true;
+      prev_z = pz;
+      prev_id = a.id;
+      mark_drawn(a);
+      const Pixel col = shade(a, x, y);
+      const int64_t alpha = (a.flags & kBlend) ? material_of(*scene, a.id).base_color[3] : 255;
+      for (int c = 0; c < 3; ++c) accum[c] += t * alpha * int64_t((col >> (16 - 8 * c)) & 0xFF);
+      t = (t * (255 - alpha) + 127) / 255;
+    }
+    uint32_t ch[3];
+    for (int c = 0; c < 3; ++c) {
+      const int64_t total = accum[c] + t * 255 * int64_t((bg >> (16 - 8 * c)) & 0xFF);
+      ch[c] = uint32_t(min_of<int64_t>(255, (total + (int64_t(255) << 23)) / (int64_t(255) << 24)));
+    }
+    if (s.lat.l > 1) {
+      const int32_t c = min_of(x / s.lat.q, s.width - 1);
+      keep_surface[c] = 0xFFFFFFFFu;  // never reused: the stack of surfaces may change
+      keep_rgb[c] = rgb(ch[0], ch[1], ch[2]) | kValid | (keep_rgb[c] & kForce);
+    }
+    return rgb(ch[0], ch[1], ch[2]);
+  }
+
+  // --- one sample row -------------------------------------------------------------------------------
+  void start_row(int32_t y) {
+    cur_px = 0;
+    cur_sum = 0;
+    if (!s.accumulate) return;
+    const int32_t q = s.lat.q;
+    if (y == 0) row_kind = 1;
+    else if (y == s.lat.ny - 1) row_kind = 3;
+    else if (y % q == 0) row_kind = 2;
+    else row_kind = 0;
+  }
+
+  // Returns the pixel row finished by sample row y, or -1.
+  int32_t finished_row(int32_t y) const {
+    if (!s.accumulate) return y;
+    if (y == 0) return -1;
+    if (y % s.lat.q == 0) return y / s.lat.q - 1;
+    return -1;
+  }
+
+  void sweep(int32_t y) {
+    const Lattice& lat = s.lat;
+    const ShadingMode mode = opt->shading;
+    uint32_t k = 0, i = 0;
+    int32_t x = 0;
+    uint32_t left_id = 0;  // Lines: visible id of the previous sample
+    while (x < lat.nx) {
+      if (k == 0) {
+        const int32_t next = (i < live) ? int32_t(act[ord[i]].min_x) : lat.nx;
+        const int32_t stop = min_of(next, lat.nx);
+        if (stop > x) {
+          if (mode == ShadingMode::Lines) {
+            lines_run(x, stop - 1, y, left_id);
+            left_id = 0;
+          } else {
+            emit_run(x, stop - 1, bg);
+          }
+          x = stop;
+          if (x >= lat.nx) break;
+        }
+      }
+      while (i < live && act[ord[i]].min_x == x) {
+        ActiveTri& a = act[ord[i]];
+        a.z_run = a.z_row + a.gx * uint64_t(int64_t(x));
+        xact[k++] = ord[i];
+        ++i;
+      }
+      // Nearest surface; drop finished spans; step z (§4.2: z_{i+1} = z_i + dz).
+      int32_t best = -1;
+      int64_t best_z = 0;
+      uint32_t best_id = 0;
+      for (uint32_t j = 0; j < k;) {
+        ActiveTri& a = act[xact[j]];
+        if (a.max_x < x) { xact[j] = xact[--k]; continue; }
+        const int64_t z = int64_t(a.z_run);
+        a.z_run += a.gx;
+        if (best < 0 || z > best_z || (z == best_z && a.id < best_id)) {
+          best = int32_t(xact[j]);
+          best_z = z;
+          best_id = a.id;
+        }
+        ++j;
+      }
+      if (best < 0) continue;  // every span ended: the k == 0 branch handles x
+      ++stats->geometry_samples;
+      if (mode == ShadingMode::Ids) {
+        mark_drawn(act[best]);
+        keep_surface[x] = best_id + 1;
+      } else if (mode == ShadingMode::Lines) {
+        mark_drawn(act[best]);
+        lines_run(x, x, y, left_id, best_id + 1);
+        left_id = best_id + 1;
+      } else {
+        const Pixel c = resolve_colour(x, y, k, uint32_t(best));
+        if (s.accumulate) emit_run(x, x, c);
+        else keep_surface[x] = c;
+      }
+      ++x;
+    }
+  }
+
+  // Hidden-line mode (§6): a pixel is on a line where the visible surface differs from the one to
+  // its left or above. keep_surface holds the previous row's ids, keep_rgb the output row.
+  void lines_run(int32_t x0, int32_t x1, int32_t y, uint32_t left_id, uint32_t id = 0) {
+    for (int32_t x = x0; x <= x1; ++x) {
+      const uint32_t up = keep_surface[x];
+      const bool line = (x > 0 && id != left_id) || (y > 0 && id != up);
+      keep_rgb[x] = line ? kLineColor : bg;
+      keep_surface[x] = id;
+      left_id = id;
+    }
+  }
+
+  Status run() {
+    const Lattice& lat = s.lat;
+    Pixel* out_row = s.colour || opt->shading == ShadingMode::Ids ? keep_surface : keep_rgb;
+    for (int32_t x = 0; x < s.width; ++x) { keep_surface[x] = 0; keep_rgb[x] = 0; }
+    if (!sink->begin_frame(s.width, s.height)) return fail_sink();
+    for (int32_t y = 0; y < lat.ny; ++y) {
+      // Compaction (§3.1): finished pieces leave the order; their slots go to the free stack.
+      uint32_t w = 0;
+      for (uint32_t r = 0; r < live; ++r) {
+        const uint32_t slot = ord[r];
+        ActiveTri& a = act[slot];
+        if (a.max_y < y) {
+          a.id = free_head;
+          free_head = slot;
+        } else {
+          a.z_row += a.gy;
+          ord[w++] = slot;
+        }
+      }
+      live = w;
+      while (ys_next < n && ys[ys_next].min_y == y) activate(ys[ys_next++], y);
+      if (live > stats->m_max) stats->m_max = live;
+      start_row(y);
+      if (live == 0) {
+        // Empty row: nothing but background (ySortList tells where the next triangle starts).
+        if (opt->shading == ShadingMode::Lines) lines_run(0, lat.nx - 1, y, 0);
+        else emit_run(0, lat.nx - 1, bg);
+      } else {
+        for (uint32_t r = 0; r < live; ++r) {
+          ActiveTri& a = act[ord[r]];
+          int32_t x0, x1;
+          if (row_span(a, lat, y, &x0, &x1)) { a.min_x = uint16_t(x0); a.max_x = uint16_t(x1); }
+          else { a.min_x = kNoSpan; a.max_x = 0; }
+        }
+        // §3.3: the order from the previous row is kept, so insertion sort is often near-linear.
+        active_sort(ord, live, [this](uint32_t slot) { return act[slot].min_x; }, &stats->sort_instructions);
+        sweep(y);
+      }
+      const int32_t py = finished_row(y);
+      if (py >= 0) {
+        if (!sink->write_block(0, py, s.width, 1, out_row, s.width)) return fail_sink();
+        ++stats->sink_calls;
+        stats->pixel_writes += uint32_t(s.width);
+        if (s.colour) {
+          for (int32_t x = 0; x < s.width; ++x) { keep_surface[x] = 0; keep_rgb[x] &= ~kForce; }
+        }
+      }
+    }
+    if (!sink->end_frame()) return fail_sink();
+    return ok_status();
+  }
+};
+
+}  // namespace
+}  // namespace scan
+
+using namespace scan;
+
+size_t scanline_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
+  Setup s;
+  if (!make_setup(scene, camera, options, &s).ok()) return 0;
+  uint32_t n = 0, m = 0;
+  count_n_m(scene, s, &n, &m);
+  return sizes_for(scene, s, n, m).need();
+}
+
+Status scanline_render(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
+                       Sink& sink, Stats* stats) {
+  Renderer r;
+  r.scene = &scene;
+  r.opt = &options;
+  r.stats = stats;
+  r.sink = &sink;
+  Status st = make_setup(scene, camera, options, &r.s);
+  if (!st.ok()) return st;
+  const Setup& s = r.s;
+  stats->width = uint32_t(s.width);
+  stats->height = uint32_t(s.height);
+  stats->samples_per_pixel = uint32_t(s.lat.l * s.lat.l);
+  stats->triangles_in = scene.triangle_count;
+  r.light = make_light(s.view);
+  r.rng = Rng(options.seed);
+  r.p_threshold = s.lat.l > 1 ? uint32_t(0xFFFFFFFFu / uint32_t(s.lat.l + 1)) : 0;  // (l-1)/(l^2-1)
+  r.bg = options.shading == ShadingMode::Ids ? 0 : (options.background & 0xFFFFFF);
+
+  const size_t start = arena.used();
+  size_t peak = 0;
+  auto note = [&]() { peak = max_of(peak, arena.used() - start); };
+  auto too_small = [&]() {
+    uint32_t n = 0, m = 0;
+    count_n_m(scene, s, &n, &m);
+    return error(StatusCode::ArenaTooSmall, "arena too small for the scanline renderer",
+                 start + sizes_for(scene, s, n, m).need());
+  };
+
+  // Build ySortList straight into the free part of the arena, then claim exactly what it used.
+  arena.allocate(0, 8);
+  const size_t free_bytes = arena.size() - arena.used();
+  YSortEntry* ys_space = reinterpret_cast<YSortEntry*>(arena.allocate(0, 8));
+  const size_t cap = free_bytes / sizeof(YSortEntry);
+  uint32_t n = 0;
+  stats->triangles_culled = for_each_piece(scene, s, [&](uint32_t ref, uint16_t y0, uint16_t y1) {
+    if (n < cap) ys_space[n] = YSortEntry{ref, y0, y1};
+    ++n;
+  });
+  Sizes z = sizes_for(scene, s, n, 0);
+  if (arena.size() - start < z.phase1()) { arena.release_to(start); return too_small(); }
+  YSortEntry* ys = static_cast<YSortEntry*>(arena.allocate(z.ysort, 8));
+  r.drawn = static_cast<uint32_t*>(arena.allocate(z.drawn, 8));
+  for (size_t i = 0; i < z.drawn / 4; ++i) r.drawn[i] = 0;
+  // §3.3: sort ySortList on min_y (top row first: our y grows downwards).
+  quick_sort(ys, n, [](const YSortEntry& e) { return e.min_y; }, &stats->sort_instructions);
+  const size_t mark = arena.used();
+  uint16_t* temp = static_cast<uint16_t*>(arena.allocate(z.temp, 8));
+  for (uint32_t i = 0; i < n; ++i) temp[i] = ys[i].max_y;
+  note();
+  uint64_t scratch_work = 0;
+  const uint32_t m = m_from_sorted(ys, temp, n, &scratch_work);
+  stats->sort_instructions += scratch_work;
+  arena.release_to(mark);
+  z = sizes_for(scene, s, n, m);
+  if (arena.size() - start < z.need()) { arena.release_to(start); return error(StatusCode::ArenaTooSmall,
+      "arena too small for the scanline renderer", start + z.need()); }
+  r.ys = ys;
+  r.n = n;
+  r.m = m;
+  r.act = static_cast<ActiveTri*>(arena.allocate(z.yactive, 8));
+  r.ord = static_cast<uint32_t*>(arena.allocate(z.ord, 8));
+  r.xact = static_cast<uint32_t*>(arena.allocate(z.xactive, 8));
+  r.keep_surface = static_cast<uint32_t*>(arena.allocate(z.keep / 2, 8));
+  r.keep_rgb = static_cast<uint32_t*>(arena.allocate(z.keep / 2, 8));
+  if (z.acc) r.acc = static_cast<uint64_t*>(arena.allocate(z.acc, 8));
+  note();
+  stats->n = n;
+  stats->peak_arena_bytes = uint32_t(peak);
+  st = r.run();
+  arena.release_to(start);
+  return st;
+}
+
+}  // namespace ml
