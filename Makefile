@@ -30,9 +30,9 @@ BENCH_SRC := $(shell find tools/bench -name '*.cpp' 2>/dev/null | sort)
 
 HOST_LIBS := -lpng
 
-# ---- object lists: release (build/) and sanitized (build/san/) ----
+# ---- object lists: release (build/obj/) and sanitized (build/san/obj/; build/san/ holds the binaries) ----
 rel = $(patsubst %.cpp,$(BUILD)/obj/%.o,$(1))
-san = $(patsubst %.cpp,$(BUILD)/san/%.o,$(1))
+san = $(patsubst %.cpp,$(BUILD)/san/obj/%.o,$(1))
 
 CORE_OBJ   := $(call rel,$(CORE_SRC))
 SCENEC_OBJ := $(call rel,$(SCENEC_SRC))
@@ -55,10 +55,10 @@ $(BUILD)/obj/src/%.o: src/%.cpp
 $(BUILD)/obj/tables/%.o: tables/%.cpp
 	@mkdir -p $(dir $@)
 	$(CXX) $(CORE_FLAGS) $(OPT) -MMD -MP -c $< -o $@
-$(BUILD)/san/src/%.o: src/%.cpp
+$(BUILD)/san/obj/src/%.o: src/%.cpp
 	@mkdir -p $(dir $@)
 	$(CXX) $(CORE_FLAGS) $(SAN) -MMD -MP -c $< -o $@
-$(BUILD)/san/tables/%.o: tables/%.cpp
+$(BUILD)/san/obj/tables/%.o: tables/%.cpp
 	@mkdir -p $(dir $@)
 	$(CXX) $(CORE_FLAGS) $(SAN) -MMD -MP -c $< -o $@
 
@@ -66,7 +66,7 @@ $(BUILD)/san/tables/%.o: tables/%.cpp
 $(BUILD)/obj/%.o: %.cpp
 	@mkdir -p $(dir $@)
 	$(CXX) $(HOST_FLAGS) $(OPT) -MMD -MP -c $< -o $@
-$(BUILD)/san/%.o: %.cpp
+$(BUILD)/san/obj/%.o: %.cpp
 	@mkdir -p $(dir $@)
 	$(CXX) $(HOST_FLAGS) $(SAN) -MMD -MP -c $< -o $@
 
@@ -77,7 +77,7 @@ $(BUILD)/san/libmaskline.a: $(CORE_SOBJ)
 
 $(BUILD)/maskline: $(BUILD)/obj/platform/host/main.o $(HOST_OBJ) $(SCENEC_OBJ) $(BUILD)/libmaskline.a
 	$(CXX) $(OPT) -o $@ $^ $(HOST_LIBS)
-$(BUILD)/san/maskline: $(BUILD)/san/platform/host/main.o $(HOST_SOBJ) $(SCENEC_SOBJ) $(BUILD)/san/libmaskline.a
+$(BUILD)/san/maskline: $(BUILD)/san/obj/platform/host/main.o $(HOST_SOBJ) $(SCENEC_SOBJ) $(BUILD)/san/libmaskline.a
 	$(CXX) $(SAN) -o $@ $^ $(HOST_LIBS)
 
 # benchmark driver (tools/bench): one frame under callgrind, plus the z-buffer baseline
@@ -88,7 +88,8 @@ $(BUILD)/maskgen: $(call rel,$(MASKGEN_SRC))
 	$(CXX) $(OPT) -o $@ $^
 
 $(BUILD)/san/tests: $(TEST_SOBJ) $(HOST_SOBJ) $(SCENEC_SOBJ) $(BUILD)/san/libmaskline.a
-	$(CXX) $(SAN) -o $@ $^ -lgtest -lpthread $(HOST_LIBS)
+	@if [ -d $@ ]; then rm -rf $@; fi  # object folder of older builds (objects now live in san/obj/)
+	$(CXX) $(SAN) -o $@ $^ -lgtest_main -lgtest -lpthread $(HOST_LIBS)
 
 # ---- fuzzing: clang libFuzzer over the blob reader ----
 FUZZ_SRC := tests/fuzz/fuzz_blob_reader.cpp $(CORE_SRC)

@@ -78,14 +78,28 @@ int clip_polygon(const View& view, ClipPlane plane, const ClipVertex* in, int co
   return n;
 }
 
-ScreenVertex project(const View& view, const ClipVertex& c) {
+// Division rounding to nearest for a positive divisor (the depth z of a vertex in front).
+inline int64_t div_round_positive(int64_t n, int64_t d) {
+  return n >= 0 ? (n + d / 2) / d : -((d / 2 - n) / d);
+}
+
+// Screen position offset from the centre, in subpixels, before any range check (|result| < 2^57).
+inline int64_t project_offset(const View& view, int32_t c, int32_t z) {
+  return div_round_positive(view.focal_q8 * c, z);
+}
+
+ScreenVertex make_screen_vertex(const View& view, const ClipVertex& c, int64_t offset_x, int64_t offset_y) {
   ScreenVertex s;
-  s.x = int32_t(view.center_x + div_round(view.focal_q8 * c.p.x, c.p.z));
-  s.y = int32_t(view.center_y + div_round(view.focal_q8 * c.p.y, c.p.z));
+  s.x = int32_t(view.center_x + offset_x);
+  s.y = int32_t(view.center_y + offset_y);
   s.z = c.p.z;
   s.depth = uint32_t((int64_t(view.near) << kDepthBits) / c.p.z);
   for (int k = 0; k < 3; ++k) s.weight[k] = c.weight[k];
   return s;
+}
+
+ScreenVertex project(const View& view, const ClipVertex& c) {
+  return make_screen_vertex(view, c, project_offset(view, c.p.x, c.p.z), project_offset(view, c.p.y, c.p.z));
 }
 
 int64_t signed_area2(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c) {
@@ -152,23 +166,108 @@ Camera frame_sphere(const Vec3i& center, int32_t radius, int width, int height, 
   return c;
 }
 
+namespace {
+
+// Orders a projected triangle so that area2 > 0. False when degenerate after snapping. (Facing is
+// not read from the sign: snapping can flip a sliver, and facing must not depend on snapping.)
+bool orient(ScreenTriangle* t) {
+  const int64_t area2 = signed_area2(t->v[0], t->v[1], t->v[2]);
+  if (area2 == 0) return false;
+  if (area2 < 0) {
+    const ScreenVertex tmp = t->v[1];
+    t->v[1] = t->v[2];
+    t->v[2] = tmp;
+  }
+  t->area2 = area2 < 0 ? -area2 : area2;
+  return true;
+}
+
+}  // namespace
+
+int triangle_facing(const View& view, const Vec3i world[3]) {
+  // Edges and eye offset are below 2^25 (world points below 2^24), the cross product below 2^51 and
+  // the triple product below 2^78: too wide for int64. Split each cross component c into
+  // hi * 2^24 + lo with lo in [0, 2^24); the two partial dot products stay below 2^54.
+  const int64_t e1[3] = {int64_t(world[1].x) - world[0].x, int64_t(world[1].y) - world[0].y,
+                         int64_t(world[1].z) - world[0].z};
+  const int64_t e2[3] = {int64_t(world[2].x) - world[0].x, int64_t(world[2].y) - world[0].y,
+                         int64_t(world[2].z) - world[0].z};
+  const int64_t r[3] = {int64_t(view.eye.x) - world[0].x, int64_t(view.eye.y) - world[0].y,
+                        int64_t(view.eye.z) - world[0].z};
+  const int64_t cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                            e1[0] * e2[1] - e1[1] * e2[0]};
+  // The common case (triangles small against the world, eye not too far): every product is below
+  // 2^61 and the plain sum fits.
+  const int64_t c_max = max_of(abs64(cross[0]), max_of(abs64(cross[1]), abs64(cross[2])));
+  const int64_t r_max = max_of(abs64(r[0]), max_of(abs64(r[1]), abs64(r[2])));
+  if (c_max < (int64_t(1) << 36) && r_max < (int64_t(1) << 25)) {
+    const int64_t det = cross[0] * r[0] + cross[1] * r[1] + cross[2] * r[2];
+    return det > 0 ? 1 : (det < 0 ? -1 : 0);
+  }
+  constexpr int kLoBits = 24;
+  int64_t hi = 0, lo = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int64_t c_hi = div_floor(cross[k], int64_t(1) << kLoBits);
+    const int64_t c_lo = cross[k] - shift_left(c_hi, kLoBits);
+    hi += c_hi * r[k];
+    lo += c_lo * r[k];
+  }
+  // Move lo's multiples of 2^24 into hi so that lo is in [0, 2^24): then hi decides the sign unless
+  // it is zero.
+  const int64_t carry = div_floor(lo, int64_t(1) << kLoBits);
+  hi += carry;
+  lo -= shift_left(carry, kLoBits);
+  if (hi != 0) return hi > 0 ? 1 : -1;
+  return lo > 0 ? 1 : 0;
+}
+
 int project_triangle(const View& view, const Vec3i world[3], ScreenTriangle out[kMaxClipTriangles]) {
+  return project_triangle(view, world, triangle_facing(view, world), out);
+}
+
+int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenTriangle out[kMaxClipTriangles]) {
+  if (facing == 0) return 0;  // seen edge-on: covers nothing
   ClipVertex buffers[2][kMaxPolygon];
   ClipVertex* poly = buffers[0];
+  bool in_front = true;
   for (int i = 0; i < 3; ++i) {
     const Vec3i d{world[i].x - view.eye.x, world[i].y - view.eye.y, world[i].z - view.eye.z};
-    // |d| < 2^25, so each dot product is below 2^56; the result keeps kViewFractionBits.
+    // |d| < 2^25, so each dot product is below 2^56; the result keeps kViewFractionBits. Rounds
+    // half up (an arithmetic shift of the biased value): cheaper than symmetric rounding, as exact.
     constexpr int shift = kUnitBits - kViewFractionBits;
-    poly[i].p = Vec3i{int32_t(shift_round(dot64(view.right, d), shift)),
-                      int32_t(shift_round(dot64(view.down, d), shift)),
-                      int32_t(shift_round(dot64(view.forward, d), shift))};
+    constexpr int64_t half = int64_t(1) << (shift - 1);
+    poly[i].p = Vec3i{int32_t((dot64(view.right, d) + half) >> shift),
+                      int32_t((dot64(view.down, d) + half) >> shift),
+                      int32_t((dot64(view.forward, d) + half) >> shift)};
     for (int k = 0; k < 3; ++k) poly[i].weight[k] = (i == k) ? kWeightOne : 0;
+    in_front = in_front && poly[i].p.z >= view.near;
   }
+
+  // Fast path, the common case: all three vertices in front of the near plane and inside the guard
+  // band, so nothing is clipped. (A vertex the projected test keeps but the plane test below would
+  // clip lies on the guard band, thousands of pixels off screen, so the two tests cannot disagree on
+  // any visible sample.)
+  if (in_front) {
+    const int64_t guard = int64_t(kGuardBandPixels) << kSubpixelBits;
+    int64_t ox[3], oy[3];
+    bool inside = true;
+    for (int i = 0; i < 3 && inside; ++i) {
+      ox[i] = project_offset(view, poly[i].p.x, poly[i].p.z);
+      oy[i] = project_offset(view, poly[i].p.y, poly[i].p.z);
+      inside = abs64(ox[i]) <= guard && abs64(oy[i]) <= guard;
+    }
+    if (inside) {
+      for (int i = 0; i < 3; ++i) out[0].v[i] = make_screen_vertex(view, poly[i], ox[i], oy[i]);
+      out[0].front_facing = facing > 0;
+      return orient(&out[0]) ? 1 : 0;
+    }
+  }
+
   int count = 3;
   for (int plane = 0; plane < kPlaneCount && count > 0; ++plane) {
     int inside = 0;
     for (int i = 0; i < count; ++i) inside += plane_distance(view, ClipPlane(plane), poly[i].p) >= 0;
-    if (inside == count) continue;  // the common case: nothing to clip
+    if (inside == count) continue;
     ClipVertex* next = (poly == buffers[0]) ? buffers[1] : buffers[0];
     count = inside == 0 ? 0 : clip_polygon(view, ClipPlane(plane), poly, count, next);
     poly = next;
@@ -184,17 +283,8 @@ int project_triangle(const View& view, const Vec3i world[3], ScreenTriangle out[
     t.v[0] = projected[0];
     t.v[1] = projected[i];
     t.v[2] = projected[i + 1];
-    const int64_t area2 = signed_area2(t.v[0], t.v[1], t.v[2]);
-    if (area2 == 0) continue;
-    // Counter-clockwise as seen by the viewer is a negative area in y-down coordinates.
-    t.front_facing = area2 < 0;
-    if (area2 < 0) {
-      const ScreenVertex tmp = t.v[1];
-      t.v[1] = t.v[2];
-      t.v[2] = tmp;
-    }
-    t.area2 = area2 < 0 ? -area2 : area2;
-    ++n;
+    t.front_facing = facing > 0;
+    if (orient(&t)) ++n;
   }
   return n;
 }

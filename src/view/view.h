@@ -6,9 +6,12 @@
 //   are in subpixels (1/256 pixel, core/fixed.h). A point-sampled pixel samples its centre,
 //   (x * 256 + 128, y * 256 + 128).
 // - View space: x right, y down, z forward (away from the eye), in 1/16 world unit (kViewFractionBits).
-// - Orientation: glTF front faces are counter-clockwise seen from the front. After projection a
-//   triangle is handed on with its vertices ordered so that area2 > 0 (y-down screen), i.e. all edge
-//   functions are positive inside; `front_facing` says whether that ordering was the original one.
+// - Orientation: glTF front faces are counter-clockwise seen from the front. Whether a triangle
+//   faces the eye is decided once, exactly, in world space (triangle_facing: the side of the
+//   triangle's plane the eye is on), never from snapped screen coordinates, so every renderer culls
+//   the same triangles and can do so before projecting. After projection a triangle is handed on with
+//   its vertices ordered so that area2 > 0 (y-down screen), i.e. all edge functions are positive
+//   inside.
 // - Edge function of the edge P→Q: E(p) = (Q.x-P.x)(p.y-P.y) - (Q.y-P.y)(p.x-P.x) = a p.x + b p.y + c.
 // - Fill rule (top-left): a sample exactly on an edge (E == 0) is covered only if the edge is a left
 //   edge (a > 0) or a top edge (a == 0 and b > 0). EdgeFunction::c has the rule folded in (it is one
@@ -56,19 +59,29 @@ struct ScreenVertex {
 struct ScreenTriangle {
   ScreenVertex v[3];  // ordered so that area2 > 0
   int64_t area2;      // twice the signed area, subpixels^2, > 0
-  bool front_facing;  // the original vertex order faced the eye
+  bool front_facing;  // triangle_facing() of the input triangle was +1
 };
 
 // Most triangles one input triangle becomes after clipping (near plane + four guard-band planes).
 constexpr int kMaxClipTriangles = 6;
 
+// +1 when the eye is on the front side of the world-space triangle's plane (the triangle is
+// counter-clockwise seen from the eye), -1 on the back side, 0 in the plane or degenerate. Exact:
+// the sign of the triple product (v1 - v0) x (v2 - v0) . (eye - v0) in integer arithmetic.
+int triangle_facing(const View& view, const Vec3i world[3]);
+
 // Transforms a world-space triangle, clips it, projects it and orders it. Writes up to
 // kMaxClipTriangles triangles to out and returns how many. Triangles wholly behind the near plane,
-// outside the guard band or degenerate (area2 == 0 after snapping) give 0. Back faces are returned
-// with front_facing == false: culling is the caller's choice (it depends on the material).
+// outside the guard band, seen edge-on (facing 0) or degenerate after snapping (area2 == 0) give 0.
+// Back faces are returned with front_facing == false: culling is the caller's choice (it depends on
+// the material); callers that cull can call triangle_facing first and skip the projection.
 // Intersection points are computed from the edge's endpoints in a canonical order, so two triangles
 // sharing an edge get identical clipped vertices (watertight).
 int project_triangle(const View& view, const Vec3i world[3], ScreenTriangle out[kMaxClipTriangles]);
+
+// The same with the facing already known: triangle_facing() of this triangle, or of the triangle it
+// is a piece of (BSP pieces take their original triangle's facing).
+int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenTriangle out[kMaxClipTriangles]);
 
 struct EdgeFunction {
   int64_t a, b, c;    // E(x, y) = a x + b y + c, x and y in subpixels, fill rule folded into c

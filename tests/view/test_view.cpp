@@ -301,6 +301,66 @@ TEST(ViewExtremes, HugeTinyAndBehindTrianglesStayInRange) {
   }
 }
 
+TEST(ViewFacing, ExactSignOfTheTripleProduct) {
+  std::mt19937_64 rng(12);
+  const int32_t lim = ml::kWorldLimit - 1;
+  int front = 0, back = 0, zero = 0;
+  for (int iter = 0; iter < 200000; ++iter) {
+    Camera cam;
+    cam.width = 32; cam.height = 32;
+    const int bits = 1 + int(rng() % 24);
+    std::uniform_int_distribution<int32_t> any(-(1 << bits) + 1, (1 << bits) - 1);
+    cam.eye = Vec3i{any(rng), any(rng), any(rng)};
+    cam.target = Vec3i{cam.eye.x + 1000, cam.eye.y + 7, cam.eye.z - 3};
+    if (std::abs(cam.target.x) >= ml::kWorldLimit) cam.target.x = cam.eye.x - 1000;
+    View v;
+    ASSERT_TRUE(ml::make_view(cam, &v).ok());
+    Vec3i w[3];
+    for (auto& p : w) p = Vec3i{any(rng), any(rng), any(rng)};
+    if (iter % 7 == 0) w[2] = Vec3i{w[0].x + (w[1].x - w[0].x) / 2, w[0].y + (w[1].y - w[0].y) / 2, w[0].z + (w[1].z - w[0].z) / 2};
+    if (iter % 11 == 0) w[0] = cam.eye;  // eye in the plane
+    if (iter % 5 == 0) { w[0].x = lim; w[1].y = -lim; }
+    const __int128 e1[3] = {(__int128)w[1].x - w[0].x, (__int128)w[1].y - w[0].y, (__int128)w[1].z - w[0].z};
+    const __int128 e2[3] = {(__int128)w[2].x - w[0].x, (__int128)w[2].y - w[0].y, (__int128)w[2].z - w[0].z};
+    const __int128 r[3] = {(__int128)cam.eye.x - w[0].x, (__int128)cam.eye.y - w[0].y, (__int128)cam.eye.z - w[0].z};
+    const __int128 det = (e1[1] * e2[2] - e1[2] * e2[1]) * r[0] + (e1[2] * e2[0] - e1[0] * e2[2]) * r[1] +
+                         (e1[0] * e2[1] - e1[1] * e2[0]) * r[2];
+    const int expect = det > 0 ? 1 : det < 0 ? -1 : 0;
+    ASSERT_EQ(ml::triangle_facing(v, w), expect) << iter;
+    front += expect > 0; back += expect < 0; zero += expect == 0;
+  }
+  EXPECT_GT(front, 50000); EXPECT_GT(back, 50000); EXPECT_GT(zero, 1000);
+}
+
+TEST(ViewFacing, AgreesWithScreenOrientationOfLargeTriangles) {
+  std::mt19937_64 rng(13);
+  int checked = 0;
+  for (int iter = 0; iter < 3000; ++iter) {
+    const Camera cam = random_camera(rng, 64, 48);
+    const View view = make(cam);
+    Vec3i w[3];
+    for (auto& p : w) p = random_point_near_view(rng, cam, 2);
+    ScreenTriangle out[ml::kMaxClipTriangles];
+    const int n = ml::project_triangle(view, w, out);
+    const int facing = ml::triangle_facing(view, w);
+    for (int i = 0; i < n; ++i) {
+      EXPECT_EQ(out[i].front_facing, facing > 0);
+      if (n != 1 || out[i].area2 < (int64_t(1) << 24)) continue;  // clipped, or a sliver snapping may flip
+      // Unclipped: each vertex's weights name its original vertex. An odd permutation means orient()
+      // swapped the order, i.e. the original order was counter-clockwise as seen by the viewer.
+      int perm[3] = {-1, -1, -1};
+      for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 3; ++j)
+          if (out[i].v[k].weight[j] == ml::kWeightOne) perm[k] = j;
+      if (perm[0] < 0 || perm[1] < 0 || perm[2] < 0) continue;  // one piece left by clipping
+      const bool odd = !((perm[0] == 0 && perm[1] == 1) || (perm[0] == 1 && perm[1] == 2) || (perm[0] == 2 && perm[1] == 0));
+      EXPECT_EQ(odd, facing > 0) << iter;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 500);
+}
+
 TEST(ViewCamera, RejectsBadCameras) {
   View v;
   Camera c;
