@@ -1,0 +1,38 @@
+// Runs the CLI binary as a child process for the Cli* tests: captures stdout and stderr, enforces a
+// timeout, and tells a clean exit from a crash or a sanitizer report.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace clitest {
+
+struct RunResult {
+  int exit_code = -1;       // valid when !signaled && !timed_out
+  bool signaled = false;    // killed by a signal (crash)
+  bool timed_out = false;
+  std::string out, err;
+
+  std::vector<std::string> err_lines() const;
+  // Sanitizer or crash text in stderr.
+  bool sanitizer_report() const;
+  std::string describe() const;  // for failure messages
+};
+
+// Path of the CLI: $MASKLINE_CLI, else "maskline" next to this test binary.
+std::string cli_path();
+
+// Runs the CLI with `args`; kills it after timeout_seconds.
+RunResult run_cli(const std::vector<std::string>& args, int timeout_seconds = 60);
+
+// A fresh temporary directory (removed by the caller with remove_tree, or left in /tmp).
+std::string make_temp_dir();
+void remove_tree(const std::string& dir);
+
+bool file_exists(const std::string& path);
+std::vector<unsigned char> read_bytes(const std::string& path);
+void write_bytes(const std::string& path, const std::vector<unsigned char>& bytes);
+
+// The assimp test model the issues name, or "" when assimp-testmodels is not installed.
+std::string engine_glb();
+
+}  // namespace clitest

@@ -1,0 +1,251 @@
+// Both renderers' id images against the double-precision oracle (tests/oracle/oracle.h), and against
+// each other. The oracle's answer is authoritative at every pixel whose centre is farther than 1/16
+// pixel from every projected edge and whose front surface is not a depth tie; the two renderers share
+// one coverage rule, so they must agree exactly wherever the front surface is not a tie.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/arena.h"
+#include "platform/host/image_sink.h"
+#include "platform/host/scene_load.h"
+#include "render/render.h"
+#include "tests/oracle/oracle.h"
+#include "tests/oracle/scene_triangles.h"
+#include "tools/scenec/scenec.h"
+#include "view/view.h"
+
+namespace {
+
+constexpr double kEdgeClearance = 1.0 / 16.0;
+
+struct IdImage {
+  bool ok = false;
+  std::string error;
+  std::vector<uint32_t> ids;  // id + 1, 0 = background
+};
+
+IdImage render_ids(const ml::Scene& scene, const ml::Camera& camera, ml::RendererKind renderer) {
+  IdImage out;
+  ml::RenderOptions o;
+  o.renderer = renderer;
+  o.shading = ml::ShadingMode::Ids;
+  o.aa = 1;
+  o.background = 0;
+  const size_t bytes = ml::render_arena_bytes(scene, camera, o);
+  std::vector<uint64_t> storage(bytes / 8 + 1);
+  ml::Arena arena(storage.data(), bytes);
+  mlhost::ImageSink sink;
+  ml::Stats stats;
+  const ml::Status s = ml::render(scene, camera, o, arena, sink, &stats);
+  if (!s.ok()) {
+    out.error = std::string("render failed: ") + s.message;
+    return out;
+  }
+  if (!sink.contract_ok()) {
+    out.error = "sink contract: " + sink.contract_error();
+    return out;
+  }
+  out.ok = true;
+  out.ids = sink.pixels();
+  return out;
+}
+
+struct Agreement {
+  size_t decisive = 0, mismatches = 0;
+  std::string first;
+};
+
+Agreement compare(const std::vector<uint32_t>& ids, const oracle::Result& ref) {
+  Agreement a;
+  for (int y = 0; y < ref.height; ++y)
+    for (int x = 0; x < ref.width; ++x) {
+      if (!ref.decisive(x, y, kEdgeClearance)) continue;
+      ++a.decisive;
+      const size_t i = ref.index(x, y);
+      const uint32_t want = uint32_t(ref.id[i] + 1);
+      if (ids[i] != want) {
+        if (a.mismatches++ == 0)
+          a.first = "pixel (" + std::to_string(x) + "," + std::to_string(y) + "): rendered id+1 " + std::to_string(ids[i]) +
+                    ", oracle " + std::to_string(want) + ", edge distance " + std::to_string(ref.edge_distance[i]);
+      }
+    }
+  return a;
+}
+
+// Checks one renderer against the oracle; `min_decisive` guards against a vacuous comparison.
+void check_against_oracle(const ml::Scene& scene, const ml::Camera& camera, ml::RendererKind renderer,
+                          double min_decisive_fraction) {
+  const IdImage img = render_ids(scene, camera, renderer);
+  ASSERT_TRUE(img.ok) << img.error;
+  const oracle::Result ref = oracle::rasterize(oracle::scene_triangles(scene), oracle::to_oracle_camera(camera));
+  const Agreement a = compare(img.ids, ref);
+  ::testing::Test::RecordProperty("decisive_pixels", std::to_string(a.decisive) + " of " +
+                                                        std::to_string(camera.width * camera.height));
+  EXPECT_EQ(a.mismatches, 0u) << a.mismatches << " of " << a.decisive << " decisive pixels differ; first: " << a.first;
+  EXPECT_GE(double(a.decisive), min_decisive_fraction * camera.width * camera.height)
+      << "only " << a.decisive << " decisive pixels";
+}
+
+const mlhost::LoadedScene& default_scene() {
+  static mlhost::LoadedScene scene = [] {
+    mlhost::LoadedScene s;
+    std::string error;
+    if (!mlhost::load_scene("", &s, &error)) ADD_FAILURE() << error;
+    return s;
+  }();
+  return scene;
+}
+
+const mlhost::LoadedScene* engine_scene() {
+  static mlhost::LoadedScene scene;
+  static int state = 0;  // 0 not tried, 1 loaded, 2 not installed, 3 failed to load
+  if (state == 0) {
+    std::string error;
+    const std::string path = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
+    if (access(path.c_str(), R_OK) != 0) {
+      state = 2;  // assimp-testmodels not installed
+    } else {
+      state = mlhost::load_scene(path, &scene, &error) ? 1 : 3;
+      if (state == 3) ADD_FAILURE() << error;
+    }
+  }
+  return state == 1 ? &scene : nullptr;
+}
+
+ml::Camera framing(const ml::Scene& scene, int w, int h) {
+  const ml::SceneInfo& i = *scene.info;
+  return ml::frame_sphere(ml::Vec3i{i.sphere_center[0], i.sphere_center[1], i.sphere_center[2]}, i.sphere_radius, w, h,
+                          45 << 16);
+}
+
+// Random triangles, each inside its own depth slab so no two intersect (a crossing would make a
+// depth tie along the crossing line); random winding (some back faces), some double-sided.
+ml::CompileResult random_scene(uint32_t seed, int count) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> xy(-4, 4), in_slab(0, 0.8), unit(0, 1);
+  ml::SceneMesh mesh;
+  mesh.materials.resize(2);
+  mesh.materials[1].double_sided = true;
+  mesh.nodes.resize(1);
+  mesh.nodes[0].name = "random";
+  for (uint32_t m = 0; m < 2; ++m) {
+    ml::MeshPrimitive prim;
+    prim.material = m;
+    mesh.nodes[0].primitives.push_back(prim);
+  }
+  for (int t = 0; t < count; ++t) {
+    ml::MeshPrimitive& prim = mesh.nodes[0].primitives[unit(rng) < 0.3 ? 1 : 0];
+    const uint32_t base = uint32_t(prim.vertices.size());
+    for (int k = 0; k < 3; ++k) {
+      ml::MeshVertex v;
+      v.position[0] = xy(rng);
+      v.position[1] = xy(rng);
+      v.position[2] = -(t + in_slab(rng)) * 1.0;
+      prim.vertices.push_back(v);
+    }
+    prim.triangles.push_back({base, base + 1, base + 2});
+  }
+  return ml::compile_mesh(mesh);
+}
+
+// A camera inside the scene's box looking at a random point: exercises near-plane and guard-band
+// clipping of triangles that reach behind the eye.
+ml::Camera inside_camera(const ml::Scene& scene, uint32_t seed, int w, int h) {
+  std::mt19937 rng(seed * 7919u + 1);
+  const ml::SceneInfo& i = *scene.info;
+  auto pick = [&](int axis) {
+    std::uniform_int_distribution<int32_t> d(i.bounds_min[axis], i.bounds_max[axis]);
+    return d(rng);
+  };
+  ml::Camera c;
+  c.width = w;
+  c.height = h;
+  c.fov_deg_q16 = 60 << 16;
+  c.near = std::max(16, i.sphere_radius / 512);
+  do {
+    c.eye = ml::Vec3i{pick(0), pick(1), pick(2)};
+    c.target = ml::Vec3i{pick(0), pick(1), pick(2)};
+  } while (std::abs(c.eye.x - c.target.x) + std::abs(c.eye.y - c.target.y) < i.sphere_radius / 4);
+  c.up = ml::Vec3i{0, 0, 1};
+  return c;
+}
+
+class OracleIds : public ::testing::TestWithParam<ml::RendererKind> {};
+
+TEST_P(OracleIds, DefaultScene) {
+  const auto& s = default_scene();
+  ASSERT_NE(s.scene.info, nullptr);
+  check_against_oracle(s.scene, framing(s.scene, 160, 120), GetParam(), 0.85);
+}
+
+TEST_P(OracleIds, TwoCylinderEngineAt160x120) {
+  const auto* s = engine_scene();
+  if (!s) GTEST_SKIP() << "assimp-testmodels not installed";
+  check_against_oracle(s->scene, framing(s->scene, 160, 120), GetParam(), 0.75);
+}
+
+TEST_P(OracleIds, RandomScenesFramedAndFromInside) {
+  for (uint32_t seed = 1; seed <= 8; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const ml::CompileResult c = random_scene(seed, 12 + int(seed) * 3);
+    ASSERT_TRUE(c.ok) << c.error;
+    mlhost::LoadedScene s;
+    std::string error;
+    ASSERT_TRUE(mlhost::adopt_compiled(c, "random", &s, &error)) << error;
+    check_against_oracle(s.scene, framing(s.scene, 96, 72), GetParam(), 0.5);
+    check_against_oracle(s.scene, inside_camera(s.scene, seed, 96, 72), GetParam(), 0.3);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Renderers, OracleIds, ::testing::Values(ml::RendererKind::Tiler, ml::RendererKind::Scanline),
+                         [](const ::testing::TestParamInfo<ml::RendererKind>& info) {
+                           return info.param == ml::RendererKind::Tiler ? std::string("Tiler") : std::string("Scanline");
+                         });
+
+// Tiler and scanline ids agree at every pixel whose front surface is not a depth tie -- near edges too,
+// since both use src/view's edge functions and fill rule.
+void check_renderers_agree(const ml::Scene& scene, const ml::Camera& camera) {
+  const IdImage t = render_ids(scene, camera, ml::RendererKind::Tiler);
+  const IdImage s = render_ids(scene, camera, ml::RendererKind::Scanline);
+  ASSERT_TRUE(t.ok) << "tiler: " << t.error;
+  ASSERT_TRUE(s.ok) << "scanline: " << s.error;
+  const oracle::Result ref = oracle::rasterize(oracle::scene_triangles(scene), oracle::to_oracle_camera(camera));
+  size_t compared = 0, differ = 0, differ_away_from_edges = 0;
+  std::string first;
+  for (int y = 0; y < camera.height; ++y)
+    for (int x = 0; x < camera.width; ++x) {
+      const size_t i = ref.index(x, y);
+      if (ref.ambiguous[i]) continue;
+      ++compared;
+      if (t.ids[i] != s.ids[i] && ref.edge_distance[i] > kEdgeClearance) ++differ_away_from_edges;
+      if (t.ids[i] != s.ids[i] && differ++ == 0)
+        first = "pixel (" + std::to_string(x) + "," + std::to_string(y) + "): tiler " + std::to_string(t.ids[i]) +
+                ", scanline " + std::to_string(s.ids[i]) + "; oracle " + std::to_string(ref.id[i] + 1) + ", then " +
+                std::to_string(ref.second_id[i] + 1) + ", relative depth gap " + std::to_string(ref.depth_gap[i]) +
+                ", edge distance " + std::to_string(ref.edge_distance[i]);
+    }
+  EXPECT_EQ(differ, 0u) << differ << " of " << compared << " pixels differ (" << differ_away_from_edges
+                        << " of them farther than 1/16 pixel from every edge); first: " << first;
+  EXPECT_GT(compared, size_t(camera.width) * size_t(camera.height) / 2);
+}
+
+TEST(OracleRenderersAgree, DefaultEngineAndRandomScenes) {
+  check_renderers_agree(default_scene().scene, framing(default_scene().scene, 160, 120));
+  if (const auto* e = engine_scene()) check_renderers_agree(e->scene, framing(e->scene, 160, 120));
+  for (uint32_t seed = 1; seed <= 4; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const ml::CompileResult c = random_scene(seed + 100, 30);
+    ASSERT_TRUE(c.ok) << c.error;
+    mlhost::LoadedScene s;
+    std::string error;
+    ASSERT_TRUE(mlhost::adopt_compiled(c, "random", &s, &error)) << error;
+    check_renderers_agree(s.scene, framing(s.scene, 96, 72));
+    check_renderers_agree(s.scene, inside_camera(s.scene, seed, 96, 72));
+  }
+}
+
+}  // namespace

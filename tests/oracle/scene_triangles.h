@@ -1,0 +1,18 @@
+// Test-side bridge from a validated scene (src/scene) to the oracle's double-precision input. This is
+// the only oracle-related file that uses src/; the oracle itself does not.
+#pragma once
+#include <vector>
+
+#include "scene/scene.h"
+#include "tests/oracle/oracle.h"
+#include "view/view.h"
+
+namespace oracle {
+
+// World triangles of every scene triangle, index = triangle id, with the material's doubleSided flag.
+std::vector<Triangle> scene_triangles(const ml::Scene& scene);
+
+// The same camera in doubles (world units, degrees).
+Camera to_oracle_camera(const ml::Camera& camera);
+
+}  // namespace oracle

@@ -1,0 +1,126 @@
+#!/usr/bin/env bash
+# make bench: instructions per frame (callgrind, frame only) for the tiler, the scanline renderer and a
+# plain z-buffer baseline. Prints a table and rewrites the generated section of docs/benchmarks.md.
+# Usage: tools/bench/run.sh BUILD
+set -euo pipefail
+build=${1:-build}
+bench="$build/bench"
+work="$build/bench-work"
+mkdir -p "$work"
+command -v valgrind >/dev/null || { echo "bench: valgrind is missing (run tools/bootstrap.sh)"; exit 1; }
+[ -x "$bench" ] || { echo "bench: $bench is missing (make bench builds it)"; exit 1; }
+
+engine=/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb
+scenes=(office:8 tessellated:100000)
+[ -f "$engine" ] && scenes=(engine "${scenes[@]}")
+
+echo "bench: compiling scenes (natively, not measured)"
+for s in "${scenes[@]}"; do
+  name=${s%%:*}
+  src=$s
+  [ "$name" = engine ] && src=$engine
+  "$bench" prepare "$src" "$work/$name.mls"
+done
+
+# field KEY LINE: value of key=value in a stats line
+field() { { grep -o "\b$1=[^ ]*" <<<"$2" || true; } | head -1 | cut -d= -f2; }
+
+rows=()
+declare -A base_ir all_ir arena_bound
+# measure NAME RENDERER SIZE AA -> appends a table row
+measure() {
+  local name=$1 renderer=$2 size=$3 aa=$4
+  local out="$work/callgrind.$name.$renderer.$size.$aa"
+  local line
+  line=$(valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file="$out" \
+           "$bench" frame "$work/$name.mls" "$renderer" "$size" "$aa" 2>"$out.log") || {
+    echo "bench: $name $renderer $size aa $aa failed: $(tail -1 "$out.log")"
+    rows+=("| $name | $renderer | $size | $aa | failed | | | | | | | |")
+    return 0
+  }
+  local ir
+  ir=$({ grep -E '^totals:' "$out" || true; } | head -1 | awk '{print $2}')
+  [ -n "$ir" ] || ir=$({ grep -o 'Collected : [0-9]*' "$out.log" || true; } | awk '{print $3}')
+  local w=${size%x*} h=${size#*x}
+  local per_pixel
+  per_pixel=$(awk -v i="$ir" -v p="$((w * h))" 'BEGIN { printf "%.0f", i / p }')
+  local ratio=""
+  if [ "$renderer" = zbuffer ]; then
+    base_ir["$name.$size"]=$ir
+    ratio="1.00"
+  elif [ -n "${base_ir[$name.$size]:-}" ]; then
+    ratio=$(awk -v a="$ir" -v b="${base_ir[$name.$size]}" 'BEGIN { printf "%.2f", a / b }')
+  fi
+  local cells peak shade geo mmax n reuse
+  cells=$(field cells_per_pixel "$line"); peak=$(field peak_arena_bytes "$line")
+  [ "$renderer" = zbuffer ] && peak="$(field buffer_bytes "$line") (buffers)"
+  shade=$(field shading_calls "$line"); geo=$(field geometry_samples "$line")
+  mmax=$(field m_max "$line"); n=$(field n "$line")
+  reuse=""
+  if [ -n "$shade" ] && [ -n "$geo" ] && [ "$geo" != 0 ]; then
+    reuse=$(awk -v a="$shade" -v b="$geo" 'BEGIN { printf "%.3f", a / b }')
+  fi
+  [ "$renderer" = tiler ] || cells=""
+  [ "$renderer" = scanline ] || { mmax=""; n=""; reuse=""; }
+  all_ir["$name.$renderer.$size.$aa"]=$ir
+  if [ "$renderer" = scanline ]; then
+    arena_bound["$name.$aa"]="$peak $((16 * n + 64 * mmax + 16 * w))"
+  fi
+  local tris
+  tris=$(field triangles "$line")
+  rows+=("| $name | $renderer | $size | $aa | $ir | $per_pixel | $ratio | ${cells:-} | ${peak:-} | ${reuse:-} | ${mmax:-} | ${n:-} |")
+  echo "  $name $renderer $size aa$aa: $ir instructions ($per_pixel/pixel) ${ratio:+x$ratio baseline} [$tris triangles]"
+}
+
+start=$SECONDS
+echo "bench: tiler against the z-buffer baseline"
+for name in engine office; do
+  [ -f "$work/$name.mls" ] || continue
+  for size in 320x240 1024x768; do
+    measure "$name" zbuffer "$size" 1
+    measure "$name" tiler "$size" 1
+  done
+done
+echo "bench: scanline at 1x1, 3x3, 4x4"
+for name in engine tessellated; do
+  [ -f "$work/$name.mls" ] || continue
+  for aa in 1 3 4; do measure "$name" scanline 320x240 "$aa"; done
+done
+
+header="| scene | renderer | size | aa | instructions/frame | per pixel | vs z-buffer | cells/pixel | peak arena bytes | shading_calls/geometry_samples | m_max | n |"
+sep="|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+table=$(printf '%s\n%s\n' "$header" "$sep"; printf '%s\n' "${rows[@]}")
+# ratio A B: A / B with two decimals, or "n/a"
+ratio() { if [ -n "${1:-}" ] && [ -n "${2:-}" ] && [ "$2" != 0 ]; then awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", a / b }'; else echo n/a; fi; }
+notes=("" "Key ratios:")
+for name in engine tessellated; do
+  one=${all_ir[$name.scanline.320x240.1]:-}
+  notes+=("- $name, scanline 3x3 / 1x1: $(ratio "${all_ir[$name.scanline.320x240.3]:-}" "$one"); 4x4 / 1x1: $(ratio "${all_ir[$name.scanline.320x240.4]:-}" "$one")")
+  for aa in 1 3 4; do
+    b=${arena_bound[$name.$aa]:-}
+    [ -n "$b" ] && notes+=("- $name, scanline ${aa}x${aa}: peak arena ${b% *} bytes against 16 n + 64 m_max + 16 width = ${b#* }")
+  done
+done
+notes+=("- engine 320x240, scanline 1x1 / tiler: $(ratio "${all_ir[engine.scanline.320x240.1]:-}" "${all_ir[engine.tiler.320x240.1]:-}")")
+notes+=("- office, tiler / z-buffer: 320x240 $(ratio "${all_ir[office.tiler.320x240.1]:-}" "${all_ir[office.zbuffer.320x240.1]:-}"), 1024x768 $(ratio "${all_ir[office.tiler.1024x768.1]:-}" "${all_ir[office.zbuffer.1024x768.1]:-}")")
+table=$(printf '%s\n' "$table" "${notes[@]}")
+echo
+echo "$table"
+echo
+echo "bench: done in $((SECONDS - start)) s"
+
+doc=docs/benchmarks.md
+section=$(printf '%s\n' "<!-- bench:begin (generated by make bench; do not edit by hand) -->" \
+  "Measured $(date -u +%Y-%m-%d) on $(uname -m), $(valgrind --version), g++ -O2; instructions of one frame (callgrind)." \
+  "Scenes: engine = 2CylinderEngine.glb, office = build_office_scene(8) seen down its rows, tessellated = build_tessellated_scene(100000)." \
+  "" "$table" "<!-- bench:end -->")
+if [ -f "$doc" ] && grep -q '<!-- bench:begin' "$doc"; then
+  SECTION="$section" awk '
+    /<!-- bench:begin/ { print ENVIRON["SECTION"]; skip = 1; next }
+    /<!-- bench:end -->/ { skip = 0; next }
+    !skip { print }' "$doc" >"$doc.tmp" && mv "$doc.tmp" "$doc"
+else
+  mkdir -p docs
+  printf '# Benchmarks\n\n%s\n' "$section" >>"$doc"
+fi
+echo "bench: table written to $doc"
