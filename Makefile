@@ -43,7 +43,13 @@ HOST_SOBJ  := $(call san,$(HOST_SRC))
 TEST_SOBJ  := $(call san,$(TEST_SRC))
 
 .PHONY: all test demo tables fuzz bench clean bootstrap firmware
-all: bootstrap $(BUILD)/maskline $(BUILD)/maskgen
+# Every entry target installs missing packages first, then builds in a sub-make: with -j the compiles
+# must not start before the headers they need are installed. Parallel by default (2 cores).
+MAKEFLAGS += -j2
+SUBMAKE = @$(MAKE) --no-print-directory
+
+all: bootstrap
+	$(SUBMAKE) $(BUILD)/maskline $(BUILD)/maskgen
 
 bootstrap:
 	@bash tools/bootstrap.sh
@@ -97,10 +103,12 @@ $(BUILD)/fuzz_blob_reader: $(FUZZ_SRC) $(shell find src tables -name '*.h')
 	@mkdir -p $(BUILD)
 	$(CLANGXX) $(CXXSTD) $(INCLUDES) -O1 -g -fno-exceptions -fsanitize=fuzzer,address,undefined -o $@ $(FUZZ_SRC)
 
-fuzz: bootstrap $(BUILD)/fuzz_blob_reader $(BUILD)/maskline
+fuzz: bootstrap
+	$(SUBMAKE) $(BUILD)/fuzz_blob_reader $(BUILD)/maskline
 	bash tests/fuzz/run.sh $(BUILD) 60
 
-test: bootstrap $(BUILD)/san/tests $(BUILD)/san/maskline $(BUILD)/maskgen $(BUILD)/fuzz_blob_reader
+test: bootstrap
+	$(SUBMAKE) $(BUILD)/san/tests $(BUILD)/san/maskline $(BUILD)/maskgen $(BUILD)/fuzz_blob_reader
 	@bash tests/run_all.sh $(BUILD) $(MASK_K)
 
 tables: $(BUILD)/maskgen
@@ -109,7 +117,8 @@ tables: $(BUILD)/maskgen
 demo: all
 	@bash tools/demo.sh $(BUILD)
 
-bench: all $(BUILD)/bench
+bench: all
+	$(SUBMAKE) $(BUILD)/bench
 	@bash tools/bench/run.sh $(BUILD)
 
 clean:

@@ -45,7 +45,7 @@ std::string stats_json(const ml::Stats& s, const RunInfo& run) {
     << ",\"cells_visited_per_pixel\":" << number(pixels > 0 ? double(s.cells_visited) / pixels : 0.0)
     << ",\"triangles_tiled\":" << s.triangles_tiled << ",\"bsp_nodes\":" << s.bsp_nodes
     << ",\"bsp_pieces\":" << s.bsp_pieces << ",\"bsp_split_ratio\":" << number(run.bsp_split_ratio)
-    << ",\"pyramid_bytes\":" << s.pyramid_bytes << ",\"n\":" << s.n << ",\"m_max\":" << s.m_max
+    << ",\"pyramid_bytes\":" << s.pyramid_bytes << ",\"bsp_subtrees_culled\":" << s.bsp_subtrees_culled << ",\"n\":" << s.n << ",\"m_max\":" << s.m_max
     << ",\"geometry_samples\":" << s.geometry_samples << ",\"sort_instructions\":" << s.sort_instructions
     << ",\"texture_bytes_loaded\":" << s.texture_bytes_loaded << ",\"texture_bytes_peak\":" << s.texture_bytes_peak
     << "}";

@@ -9,9 +9,11 @@ struct Stats {
   // common
   uint32_t width = 0, height = 0;
   uint32_t samples_per_pixel = 1;      // aa * aa
+  // The tiler draws BSP pieces (a split triangle is several), so for it culled and drawn count pieces
+  // and add up to bsp_pieces; the scanline renderer counts triangles.
   uint32_t triangles_in = 0;           // triangles in the scene
   uint32_t triangles_culled = 0;       // back-facing, behind the eye, off screen, degenerate, or hidden
-  uint32_t triangles_drawn = 0;        // triangles that wrote at least one pixel
+  uint32_t triangles_drawn = 0;        // triangles (pieces) that wrote at least one pixel
   uint64_t pixel_writes = 0;           // pixels handed to the sink (a block of n pixels counts n)
   uint64_t sink_calls = 0;             // write_block + fill_block calls
   uint64_t shading_calls = 0;          // colour evaluations
@@ -23,6 +25,7 @@ struct Stats {
   uint32_t bsp_nodes = 0;
   uint32_t bsp_pieces = 0;             // pieces stored in the BSP (>= triangles when some were split)
   uint32_t pyramid_bytes = 0;
+  uint32_t bsp_subtrees_culled = 0;    // BSP subtrees skipped whole (box proved hidden or off screen)
 
   // scanline
   uint32_t n = 0;                      // triangles in ySortList

@@ -131,8 +131,8 @@ static_assert(sizeof(Node) == 16, "Node layout");
 // Subtree bounds (for occlusion culling of whole subtrees): bounds_min/max is the world-space box of
 // every piece vertex in the node's subtree (its own pieces and all descendants'), each vertex taken
 // as the renderer sees it (vertex_world with the piece's triangle's batch); a child's box lies inside
-// its parent's. An empty subtree (no pieces) may hold any box with min <= max. subtree_pieces =
-// piece_count + the children's subtree_pieces.
+// its parent's. A subtree without pieces may hold any such nesting box (the compiler gives it its
+// parent's). |bounds| < 2^18. subtree_pieces = piece_count + the children's subtree_pieces.
 struct BspNode {
   int32_t normal[3];           // Q1.30
   uint32_t front;              // child index or kNone

@@ -197,6 +197,43 @@ Status check_triangles(const Scene& s) {
   return ok_status();
 }
 
+bool inside(const Vec3i& p, const BspNode& n) {
+  return p.x >= n.bounds_min[0] && p.x <= n.bounds_max[0] && p.y >= n.bounds_min[1] &&
+         p.y <= n.bounds_max[1] && p.z >= n.bounds_min[2] && p.z <= n.bounds_max[2];
+}
+
+// Subtree bounds and counts, checked locally per node (own piece vertices and children inside the
+// box, counts adding up), which by induction puts every piece of a subtree inside its root's box.
+// Runs after the tree shape, piece ranges and indices are known good.
+Status check_bsp_subtrees(const Scene& s) {
+  for (uint32_t i = 0; i < s.bsp_node_count; ++i) {
+    const BspNode& n = s.bsp_nodes[i];
+    for (int a = 0; a < 3; ++a) {
+      if (n.bounds_min[a] > n.bounds_max[a]) return bad("bsp bounds min above max");
+      if (!in_limit(n.bounds_min[a], kSceneLimit) || !in_limit(n.bounds_max[a], kSceneLimit))
+        return bad("bsp bounds out of range");
+    }
+    for (uint32_t p = n.first_piece; p < n.first_piece + n.piece_count; ++p) {
+      const BspPiece& piece = s.bsp_pieces[p];
+      const uint32_t batch = s.triangles[piece.triangle].batch;
+      for (int k = 0; k < 3; ++k)
+        if (!inside(vertex_world(s, batch, piece.v[k]), n)) return bad("bsp piece vertex outside node bounds");
+    }
+    uint64_t total = n.piece_count;
+    const uint32_t child[2] = {n.front, n.back};
+    for (uint32_t c : child) {
+      if (c == kNone) continue;
+      const BspNode& m = s.bsp_nodes[c];
+      for (int a = 0; a < 3; ++a)
+        if (m.bounds_min[a] < n.bounds_min[a] || m.bounds_max[a] > n.bounds_max[a])
+          return bad("bsp child bounds outside parent bounds");
+      total += m.subtree_pieces;
+    }
+    if (total != n.subtree_pieces) return bad("bsp subtree piece count wrong");
+  }
+  return ok_status();
+}
+
 // The BSP nodes must be stored breadth-first: reading every node's child references in node order
 // (front before back) yields exactly 1, 2, ..., count-1. That makes the nodes a tree rooted at 0
 // (each node referenced once, never the root, every child after its parent) and lets the depth be
@@ -249,7 +286,7 @@ Status check_bsp(const Scene& s) {
       if (piece.v[k] >= s.vertex_count) return bad("bsp piece vertex index out of range");
     }
   }
-  return ok_status();
+  return check_bsp_subtrees(s);
 }
 
 }  // namespace

@@ -160,6 +160,78 @@ void clip_to_triangle(const View& view, const ScreenTriangle& part, const Triang
   *poly = out;
 }
 
+// Subtree culling (Greene's hierarchical visibility applied to the BSP itself): a subtree of at
+// least kCullMinPieces pieces whose world box projects to a screen rectangle without an uncovered
+// sample is skipped whole. Smaller subtrees are cheaper to walk than to test.
+constexpr uint32_t kCullMinPieces = 16;
+
+// The sample rectangle (inclusive, unclipped) that every sample any piece inside the node's box can
+// write lies in, or false when the box reaches the near plane (then the caller assumes visible).
+// Conservative by construction: the corners are transformed exactly (in units of 2^-26 view unit,
+// before the renderer's rounding), each corner's depth and offsets are widened by one view unit for
+// that rounding, x/z is bounded by the widened corners (a convex set in front of the eye projects
+// inside the hull of its corners' projections), and the rectangle grows by two samples: one for the
+// rounding of projection and sample centres, one for the pixel a split piece's box may grow by.
+bool box_screen_rect(const View& view, const BspNode& node, int32_t* x0, int32_t* y0, int32_t* x1,
+                     int32_t* y1) {
+  constexpr int shift = kUnitBits - kViewFractionBits;
+  const Vec3i* rows[3] = {&view.right, &view.down, &view.forward};
+  const int64_t d0[3] = {int64_t(node.bounds_min[0]) - view.eye.x, int64_t(node.bounds_min[1]) - view.eye.y,
+                         int64_t(node.bounds_min[2]) - view.eye.z};
+  const int64_t ext[3] = {int64_t(node.bounds_max[0]) - node.bounds_min[0],
+                          int64_t(node.bounds_max[1]) - node.bounds_min[1],
+                          int64_t(node.bounds_max[2]) - node.bounds_min[2]};
+  // base[r] = row r . (min - eye); step[a][r] = row r . (ext[a] e_a): |values| < 2^52, sums < 2^54.
+  int64_t base[3], step[3][3];
+  for (int r = 0; r < 3; ++r) {
+    const int64_t m[3] = {rows[r]->x, rows[r]->y, rows[r]->z};
+    base[r] = m[0] * d0[0] + m[1] * d0[1] + m[2] * d0[2];
+    for (int a = 0; a < 3; ++a) step[a][r] = m[a] * ext[a];
+  }
+  int64_t sx0 = INT64_MAX, sy0 = INT64_MAX, sx1 = INT64_MIN, sy1 = INT64_MIN;
+  for (int c = 0; c < 8; ++c) {
+    int64_t v[3];
+    for (int r = 0; r < 3; ++r)
+      v[r] = base[r] + ((c & 1) ? step[0][r] : 0) + ((c & 2) ? step[1][r] : 0) + ((c & 4) ? step[2][r] : 0);
+    // View units, widened: floor - 1 .. floor + 2 covers every rounding of a point near v.
+    const int64_t z_lo = (v[2] >> shift) - 1, z_hi = (v[2] >> shift) + 2;
+    if (z_lo <= view.near) return false;
+    const int64_t x_lo = (v[0] >> shift) - 1, x_hi = (v[0] >> shift) + 2;
+    const int64_t y_lo = (v[1] >> shift) - 1, y_hi = (v[1] >> shift) + 2;
+    // Extremes of c / z over the widened cell: for c >= 0 the smallest depth gives the largest value.
+    const int64_t f = view.focal_q8;
+    sx0 = min_of(sx0, div_floor(f * x_lo, x_lo >= 0 ? z_hi : z_lo));
+    sx1 = max_of(sx1, div_floor(f * x_hi, x_hi >= 0 ? z_lo : z_hi) + 1);
+    sy0 = min_of(sy0, div_floor(f * y_lo, y_lo >= 0 ? z_hi : z_lo));
+    sy1 = max_of(sy1, div_floor(f * y_hi, y_hi >= 0 ? z_lo : z_hi) + 1);
+  }
+  // Subpixel offsets to samples: a sample (pixel) centre px * 256 + 128 inside [s0, s1] has
+  // floor(s0 / 256) <= px <= floor(s1 / 256); plus the two-sample margin. Clamped far outside the
+  // screen so the int32 results stay meaningful.
+  const int64_t lim = int64_t(kMaxScreenDim) * 4;
+  auto sample = [&](int64_t center, int64_t s, int64_t margin) {
+    return int32_t(clamp_to<int64_t>(div_floor(center + s, kSubpixelOne) + margin, -lim, lim));
+  };
+  *x0 = sample(view.center_x, sx0, -2);
+  *x1 = sample(view.center_x, sx1, 2);
+  *y0 = sample(view.center_y, sy0, -2);
+  *y1 = sample(view.center_y, sy1, 2);
+  return true;
+}
+
+// True when no sample that a piece of the node's subtree could write is still uncovered (or the
+// subtree has no pieces).
+bool subtree_hidden(const View& view, const BspNode& node, HierTiler& tiler) {
+  if (node.subtree_pieces == 0) return true;
+  ConvexPoly box;
+  if (!box_screen_rect(view, node, &box.min_x, &box.min_y, &box.max_x, &box.max_y)) return false;
+  box.min_x = max_of(box.min_x, 0);
+  box.min_y = max_of(box.min_y, 0);
+  box.max_x = min_of(box.max_x, view.width - 1);
+  box.max_y = min_of(box.max_y, view.height - 1);
+  return !tiler.box_visible(box);  // false for an empty (off-screen) box too
+}
+
 Status check_options(const Camera& camera, const RenderOptions& options) {
   if (options.aa != 1) return error(StatusCode::Unsupported, "the tiler point-samples (aa must be 1)");
   if (options.shading == ShadingMode::Lines)
@@ -252,6 +324,14 @@ Status tiler_render(const Scene& scene, const Camera& camera, const RenderOption
     const uint32_t near = side >= 0 ? node.front : node.back;
     const uint32_t far = side >= 0 ? node.back : node.front;
     if (!(f & kNearDone)) {
+      if (node.subtree_pieces >= kCullMinPieces && subtree_hidden(view, node, tiler)) {
+        // Every piece below is hidden.
+        pieces_done += node.subtree_pieces;
+        st->triangles_culled += node.subtree_pieces;
+        ++st->bsp_subtrees_culled;
+        --sp;
+        continue;
+      }
       f |= kNearDone;
       if (near != kNone) {
         if (sp == stack_cap) return finish(error(StatusCode::BadScene, "BSP deeper than bsp_depth"));

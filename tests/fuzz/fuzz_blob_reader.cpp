@@ -29,6 +29,7 @@ void walk(const ml::Scene& s) {
     }
     if (n.front != ml::kNone) sum += s.bsp_nodes[n.front].piece_count;
     if (n.back != ml::kNone) sum += s.bsp_nodes[n.back].piece_count;
+    sum += int64_t(n.bounds_min[0]) + n.bounds_max[2] + n.subtree_pieces;
   }
   for (uint32_t i = 0; i < s.node_count; ++i) {
     for (uint32_t b = s.nodes[i].first_batch; b < s.nodes[i].first_batch + s.nodes[i].batch_count; ++b) {

@@ -281,6 +281,42 @@ TEST(SceneBsp, LargeScenesAreCompleteAndModeratelyDeep) {
   }
 }
 
+// The compiler's subtree boxes are tight: each face of a non-empty subtree's box is touched by a piece
+// vertex of that subtree (the reader has already checked that they contain them), and the root's
+// count is every piece.
+TEST(SceneBsp, SubtreeBoundsAreTight) {
+  const CompileResult& r = scenetest::cached("office2");
+  ASSERT_TRUE(r.ok) << r.error;
+  Scene s;
+  ASSERT_TRUE(scenetest::read(r.blob, &s).ok());
+  EXPECT_EQ(s.bsp_nodes[0].subtree_pieces, s.bsp_piece_count);
+  // Walk each subtree (explicit stack) and collect its vertex box.
+  for (uint32_t i = 0; i < s.bsp_node_count; ++i) {
+    const BspNode& n = s.bsp_nodes[i];
+    if (n.subtree_pieces == 0) continue;
+    int32_t lo[3] = {INT32_MAX, INT32_MAX, INT32_MAX}, hi[3] = {INT32_MIN, INT32_MIN, INT32_MIN};
+    std::vector<uint32_t> todo{i};
+    while (!todo.empty()) {
+      const BspNode& m = s.bsp_nodes[todo.back()];
+      todo.pop_back();
+      for (uint32_t p = m.first_piece; p < m.first_piece + m.piece_count; ++p)
+        for (int k = 0; k < 3; ++k) {
+          const D3 w = world(s, p, k);
+          for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], int32_t(w[size_t(a)]));
+            hi[a] = std::max(hi[a], int32_t(w[size_t(a)]));
+          }
+        }
+      if (m.front != kNone) todo.push_back(m.front);
+      if (m.back != kNone) todo.push_back(m.back);
+    }
+    for (int a = 0; a < 3; ++a) {
+      ASSERT_EQ(n.bounds_min[a], lo[a]) << "node " << i;
+      ASSERT_EQ(n.bounds_max[a], hi[a]) << "node " << i;
+    }
+  }
+}
+
 TEST(SceneBsp, DeterministicForASeed) {
   const CompileResult a = random_soup(5, 90), b = random_soup(5, 90);
   ASSERT_TRUE(a.ok && b.ok);

@@ -371,6 +371,42 @@ TEST(SceneReader, BspChecks) {
   EXPECT_TRUE(scenetest::read(deeper).ok());
 }
 
+TEST(SceneReader, BspSubtreeChecks) {
+  Blob good = small_blob();
+  Scene s;
+  ASSERT_TRUE(scenetest::read(good, &s).ok());
+  ASSERT_GE(s.bsp_node_count, 3u);
+  auto nodes = [](Blob* b) { return section<BspNode>(b, SectionType::BspNodes); };
+  // A leaf with pieces whose box has extent along some axis, a child and its parent.
+  uint32_t wide = kNone, child = kNone, parent = kNone;
+  int axis = 0;
+  for (uint32_t i = 0; i < s.bsp_node_count; ++i) {
+    const BspNode& n = s.bsp_nodes[i];
+    for (int a = 0; a < 3 && wide == kNone; ++a)
+      if (n.piece_count > 0 && n.front == kNone && n.back == kNone && n.bounds_min[a] < n.bounds_max[a]) {
+        wide = i;
+        axis = a;
+      }
+    if (child == kNone && n.front != kNone) {
+      parent = i;
+      child = n.front;
+    }
+  }
+  ASSERT_NE(wide, kNone);
+  ASSERT_NE(child, kNone);
+  const uint32_t last = s.bsp_node_count - 1;
+  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[last].bounds_min[1] = nodes(b)[last].bounds_max[1] + 1; }),
+            "bsp bounds min above max");
+  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[0].bounds_min[2] = -(1 << 18); }), "bsp bounds out of range");
+  // Shrinking a node's box leaves its parent's check intact and strands a vertex at the old face.
+  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[wide].bounds_max[axis] -= 1; }),
+            "bsp piece vertex outside node bounds");
+  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[child].bounds_max[0] = nodes(b)[parent].bounds_max[0] + 1; }),
+            "bsp child bounds outside parent bounds");
+  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[0].subtree_pieces += 1; }), "bsp subtree piece count wrong");
+  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[last].subtree_pieces += 1; }), "bsp subtree piece count wrong");
+}
+
 TEST(SceneReader, NoBspIsValid) {
   SceneMesh mesh = make_default_scene();
   CompileOptions options;

@@ -3,8 +3,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <string>
+#include <system_error>
+#include <vector>
 #include <unistd.h>
 
 #include "scene/scene.h"
@@ -19,11 +22,24 @@ inline std::string engine_path() {
 
 inline bool file_exists(const std::string& path) { return access(path.c_str(), R_OK) == 0; }
 
-// A fresh temporary directory (removed by nobody: /tmp is cleaned by the system).
+// A fresh temporary directory, removed with its contents when the test binary exits.
 inline std::string temp_dir() {
+  static std::vector<std::string> made;
+  static const bool registered = [] {
+    std::atexit([] {
+      for (const std::string& d : made) {
+        std::error_code ignored;
+        std::filesystem::remove_all(d, ignored);
+      }
+    });
+    return true;
+  }();
+  (void)registered;
   char tmpl[] = "/tmp/maskline-scene-XXXXXX";
   const char* dir = mkdtemp(tmpl);
-  return dir ? std::string(dir) : std::string("/tmp");
+  if (!dir) return std::string("/tmp");
+  made.push_back(dir);
+  return std::string(dir);
 }
 
 inline void write_file(const std::string& path, const std::string& text) {

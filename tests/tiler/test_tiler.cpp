@@ -10,6 +10,7 @@
 #include "tests/tiler/tiler_test_util.h"
 #include "tiler/tile.h"
 #include "tiler/tiler.h"
+#include "tools/scenec/scenec.h"
 
 namespace {
 
@@ -553,6 +554,125 @@ TEST(TilerRender, BackFacesCulledUnlessDoubleSided) {
   EXPECT_EQ(f.stats.triangles_drawn, 1u);
   EXPECT_EQ(f.stats.triangles_culled, 1u);
   for (ml::Pixel p : f.sink.image) EXPECT_NE(p, 1u);  // triangle 0 never shows
+}
+
+
+// The same scene with every BSP subtree box widened to the whole world range: the eye is inside every
+// box, so no subtree can be culled (the tiler's reference for "culling off").
+struct Unculled {
+  std::vector<ml::BspNode> nodes;
+  ml::Scene scene;
+  explicit Unculled(const ml::Scene& s) : nodes(s.bsp_nodes, s.bsp_nodes + s.bsp_node_count), scene(s) {
+    for (ml::BspNode& n : nodes)
+      for (int a = 0; a < 3; ++a) {
+        n.bounds_min[a] = -(1 << 18) + 1;
+        n.bounds_max[a] = (1 << 18) - 1;
+      }
+    scene.bsp_nodes = nodes.data();
+  }
+};
+
+void expect_same_frame(const Frame& culled, const Frame& plain, const ml::Camera& cam) {
+  ASSERT_TRUE(culled.status.ok()) << culled.status.message;
+  ASSERT_TRUE(plain.status.ok()) << plain.status.message;
+  ASSERT_FALSE(culled.sink.out_of_bounds);
+  for (int c : culled.sink.count) ASSERT_EQ(c, 1);
+  EXPECT_EQ(plain.stats.bsp_subtrees_culled, 0u);
+  EXPECT_EQ(culled.stats.triangles_drawn, plain.stats.triangles_drawn);
+  EXPECT_EQ(culled.stats.triangles_drawn + culled.stats.triangles_culled, culled.stats.bsp_pieces);
+  for (size_t p = 0; p < culled.sink.image.size(); ++p)
+    ASSERT_EQ(culled.sink.image[p], plain.sink.image[p]) << "pixel " << p % size_t(cam.width) << ","
+                                                          << p / size_t(cam.width);
+}
+
+// Subtree culling: triangles on the left, behind a wall that hides the left half of the screen, sit
+// in subtrees the tiler skips whole; the image still equals brute force and the unculled render.
+TEST(TilerCull, HiddenSubtreesAreSkippedWithoutChangingTheImage) {
+  std::mt19937 rng(5);
+  std::vector<tiler_test::TestScene::Tri> tris = tiler_test::random_scene(rng, 200, 60);
+  for (auto& t : tris)
+    for (auto& p : t.p) p[0] = int16_t(-250 - std::abs(p[0]) / 2);  // x in [-640, -250]
+  // The wall at z = 400 (camera at z = 1000): x <= -20, so it hides everything above on screen.
+  tiler_test::TestScene::Tri w0, w1;
+  const int16_t wall[4][2] = {{-3000, -3000}, {-20, -3000}, {-20, 3000}, {-3000, 3000}};
+  for (int i = 0; i < 3; ++i) {
+    const int a = i, b = i == 0 ? 0 : i + 1;
+    w0.p[i][0] = wall[a][0]; w0.p[i][1] = wall[a][1]; w0.p[i][2] = 400;
+    w1.p[i][0] = wall[b][0]; w1.p[i][1] = wall[b][1]; w1.p[i][2] = 400;
+  }
+  tris.push_back(w0);
+  tris.push_back(w1);
+  // Something visible on the right, in front of and behind the wall's plane.
+  for (int z : {450, 100}) {
+    tiler_test::TestScene::Tri t;
+    const int16_t v[3][2] = {{100, -200}, {400, -200}, {250, 200}};
+    for (int i = 0; i < 3; ++i) {
+      t.p[i][0] = v[i][0]; t.p[i][1] = int16_t(v[i][1] + (z == 100 ? 150 : 0)); t.p[i][2] = int16_t(z);
+    }
+    tris.push_back(t);
+  }
+  tiler_test::TestScene ts;
+  ts.build(tris);
+  for (auto [w, h] : {std::pair<int, int>{320, 240}, {101, 77}}) {
+    const ml::Camera cam = tiler_test::test_camera(w, h);
+    const Unculled plain(ts.scene);
+    const Frame culled = render(ts.scene, cam, ml::ShadingMode::Ids);
+    const Frame reference = render(plain.scene, cam, ml::ShadingMode::Ids);
+    expect_same_frame(culled, reference, cam);
+    EXPECT_GT(culled.stats.bsp_subtrees_culled, 0u);
+    const auto expect = brute_ids(ts, cam);
+    for (size_t p = 0; p < expect.size(); ++p) ASSERT_EQ(culled.sink.image[p], expect[p]) << "pixel " << p;
+  }
+}
+
+ml::Camera hint_camera(const ml::CompileResult& r, const ml::Scene& s, int w, int h) {
+  ml::Camera cam = ml::frame_sphere(ml::Vec3i{s.info->sphere_center[0], s.info->sphere_center[1],
+                                              s.info->sphere_center[2]},
+                                    s.info->sphere_radius, w, h, 45 << 16);
+  if (!r.camera.valid) return cam;
+  auto round3 = [](const double* v, double k) {
+    return ml::Vec3i{int32_t(std::llround(v[0] * k)), int32_t(std::llround(v[1] * k)), int32_t(std::llround(v[2] * k))};
+  };
+  cam.eye = round3(r.camera.eye, 1);
+  cam.target = round3(r.camera.target, 1);
+  cam.up = round3(r.camera.up, 1 << 20);
+  cam.near = std::max(16, s.info->sphere_radius / 1024);
+  return cam;
+}
+
+// The occluded office (the benchmark scene): most subtrees are culled from the hint camera, and for
+// it and orbiting cameras (partly outside, partly inside the rooms) the image equals the unculled one.
+TEST(TilerCull, OfficeMatchesUnculledRender) {
+  const ml::CompileResult r = ml::build_office_scene(4);
+  ASSERT_TRUE(r.ok) << r.error;
+  ml::Scene s;
+  ASSERT_TRUE(ml::read_scene(r.blob.data(), r.blob.size, &s).ok());
+  const Unculled plain(s);
+  std::vector<ml::Camera> cams;
+  cams.push_back(hint_camera(r, s, 320, 240));
+  cams.push_back(hint_camera(r, s, 133, 97));
+  const ml::Vec3i c{s.info->sphere_center[0], s.info->sphere_center[1], s.info->sphere_center[2]};
+  for (int k = 0; k < 6; ++k) {
+    ml::Camera cam = hint_camera(r, s, 160, 120);
+    // Orbit around the centre at several distances, some inside the bounding sphere.
+    const int32_t rad = s.info->sphere_radius * (k % 3 + 1) / 2;
+    const int32_t ox = (k & 1) ? rad : -rad / 2, oz = (k & 2) ? rad / 2 : -rad;
+    cam.eye = ml::Vec3i{c.x + ox, c.y + rad / 4, c.z + oz};
+    cam.target = c;
+    cam.up = ml::Vec3i{0, 1, 0};
+    cams.push_back(cam);
+  }
+  uint32_t culled_total = 0;
+  for (const ml::Camera& cam : cams) {
+    const Frame culled = render(s, cam, ml::ShadingMode::Ids);
+    const Frame reference = render(plain.scene, cam, ml::ShadingMode::Ids);
+    expect_same_frame(culled, reference, cam);
+    culled_total += culled.stats.bsp_subtrees_culled;
+  }
+  const Frame hint = render(s, cams[0], ml::ShadingMode::Flat);
+  ASSERT_TRUE(hint.status.ok());
+  EXPECT_GT(hint.stats.bsp_subtrees_culled, 0u);
+  EXPECT_GT(culled_total, hint.stats.bsp_subtrees_culled);
 }
 
 }  // namespace

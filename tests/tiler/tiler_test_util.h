@@ -280,6 +280,27 @@ struct TestScene {
       n.piece_count = uint32_t(pieces.size()) - n.first_piece;
       n.front = make(mid + 1, hi, d + 1);
       n.back = make(lo, mid - 1, d + 1);
+      // Subtree box and count (blob_format.h): own piece vertices (scale 1, offset 0: world = q)
+      // and the children's boxes; every node here holds pieces.
+      n.subtree_pieces = n.piece_count;
+      for (int a = 0; a < 3; ++a) {
+        n.bounds_min[a] = INT32_MAX;
+        n.bounds_max[a] = INT32_MIN;
+      }
+      for (uint32_t p = n.first_piece; p < n.first_piece + n.piece_count; ++p)
+        for (uint32_t v : pieces[p].v)
+          for (int a = 0; a < 3; ++a) {
+            n.bounds_min[a] = std::min<int32_t>(n.bounds_min[a], vertices[v].position[a]);
+            n.bounds_max[a] = std::max<int32_t>(n.bounds_max[a], vertices[v].position[a]);
+          }
+      for (uint32_t c : {n.front, n.back}) {
+        if (c == ml::kNone) continue;
+        n.subtree_pieces += nodes[c].subtree_pieces;
+        for (int a = 0; a < 3; ++a) {
+          n.bounds_min[a] = std::min(n.bounds_min[a], nodes[c].bounds_min[a]);
+          n.bounds_max[a] = std::max(n.bounds_max[a], nodes[c].bounds_max[a]);
+        }
+      }
       nodes[id] = n;
       return id;
     };

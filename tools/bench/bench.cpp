@@ -7,8 +7,8 @@
 //   bench prepare default|office[:LAYERS]|tessellated[:TRIANGLES]|FILE OUT.mls
 //       compile a scene (natively, before measuring) to a blob; writes OUT.mls.camera when the scene
 //       has a suggested camera (the office scene looks down its rows)
-//   bench frame SCENE.mls tiler|scanline|zbuffer WxH AA
-//       one frame; prints "key=value ..." statistics on stdout
+//   bench frame SCENE.mls tiler|scanline|zbuffer WxH AA [flat|gouraud]
+//       one frame (flat shading unless told); prints "key=value ..." statistics on stdout
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -140,7 +140,7 @@ ml::Status zbuffer_render(const ml::Scene& scene, const ml::Camera& camera, ml::
 int usage() {
   fprintf(stderr,
           "usage: bench prepare default|office[:LAYERS]|tessellated[:TRIANGLES]|FILE OUT.mls\n"
-          "       bench frame SCENE.mls tiler|scanline|zbuffer WxH AA\n");
+          "       bench frame SCENE.mls tiler|scanline|zbuffer WxH AA [flat|gouraud]\n");
   return 2;
 }
 
@@ -176,7 +176,8 @@ int prepare(const std::string& what, const std::string& out) {
   return 0;
 }
 
-int frame(const std::string& path, const std::string& renderer, const std::string& size, int aa) {
+int frame(const std::string& path, const std::string& renderer, const std::string& size, int aa,
+          ml::ShadingMode shading) {
   mlhost::LoadedScene loaded;
   std::string error;
   if (!mlhost::load_scene(path, &loaded, &error)) {
@@ -221,7 +222,7 @@ int frame(const std::string& path, const std::string& renderer, const std::strin
   if (renderer == "tiler") o.renderer = ml::RendererKind::Tiler;
   else if (renderer == "scanline") o.renderer = ml::RendererKind::Scanline;
   else return usage();
-  o.shading = ml::ShadingMode::Flat;
+  o.shading = shading;
   o.aa = aa;
   const size_t bytes = ml::render_arena_bytes(scene, camera, o);
   std::vector<uint64_t> storage(bytes / 8 + 1);
@@ -247,10 +248,13 @@ int frame(const std::string& path, const std::string& renderer, const std::strin
 
 int main(int argc, char** argv) {
   if (argc == 4 && strcmp(argv[1], "prepare") == 0) return prepare(argv[2], argv[3]);
-  if (argc == 6 && strcmp(argv[1], "frame") == 0) {
+  if ((argc == 6 || argc == 7) && strcmp(argv[1], "frame") == 0) {
     const int aa = atoi(argv[5]);
     if (aa < 1 || aa > 8) return usage();
-    return frame(argv[2], argv[3], argv[4], aa);
+    ml::ShadingMode shading = ml::ShadingMode::Flat;
+    if (argc == 7 && strcmp(argv[6], "gouraud") == 0) shading = ml::ShadingMode::Gouraud;
+    else if (argc == 7 && strcmp(argv[6], "flat") != 0) return usage();
+    return frame(argv[2], argv[3], argv[4], aa, shading);
   }
   return usage();
 }

@@ -693,6 +693,51 @@ void quantize_normal(const double n[3], int16_t out[3]) {
   }
 }
 
+void fill_subtree_bounds(const std::vector<Batch>& batches, const std::vector<Triangle>& triangles,
+                         const std::vector<Vertex>& vertices, BspResult* bsp) {
+  for (size_t i = bsp->nodes.size(); i-- > 0;) {
+    BspNode& n = bsp->nodes[i];
+    bool any = false;
+    int32_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    auto add = [&](const int32_t p[3]) {
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = any ? std::min(lo[a], p[a]) : p[a];
+        hi[a] = any ? std::max(hi[a], p[a]) : p[a];
+      }
+      any = true;
+    };
+    for (uint32_t k = n.first_piece; k < n.first_piece + n.piece_count; ++k) {
+      const BspPiece& piece = bsp->pieces[k];
+      for (uint32_t v : piece.v) {
+        const Vec3i w = dequantize(batches[triangles[piece.triangle].batch], vertices[v].position);
+        const int32_t p[3] = {w.x, w.y, w.z};
+        add(p);
+      }
+    }
+    uint32_t count = n.piece_count;
+    for (uint32_t c : {n.front, n.back}) {
+      if (c == kNone) continue;
+      const BspNode& m = bsp->nodes[c];
+      count += m.subtree_pieces;
+      if (m.subtree_pieces == 0) continue;  // an empty child's box says nothing
+      add(m.bounds_min);
+      add(m.bounds_max);
+    }
+    n.subtree_pieces = count;
+    for (int a = 0; a < 3; ++a) {
+      n.bounds_min[a] = lo[a];
+      n.bounds_max[a] = hi[a];
+    }
+  }
+  // A subtree without pieces takes its parent's box, so children always nest (parents come first).
+  for (BspNode& n : bsp->nodes)
+    for (uint32_t c : {n.front, n.back}) {
+      if (c == kNone || bsp->nodes[c].subtree_pieces != 0) continue;
+      std::copy(n.bounds_min, n.bounds_min + 3, bsp->nodes[c].bounds_min);
+      std::copy(n.bounds_max, n.bounds_max + 3, bsp->nodes[c].bounds_max);
+    }
+}
+
 bool build_bsp(const std::vector<Batch>& batches, const std::vector<Triangle>& triangles,
                std::vector<Vertex>* vertices, const CompileOptions& options, BspResult* out,
                std::string* error) {

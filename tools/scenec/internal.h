@@ -36,5 +36,10 @@ bool build_bsp(const std::vector<Batch>& batches, const std::vector<Triangle>& t
                std::vector<Vertex>* vertices, const CompileOptions& options, BspResult* out,
                std::string* error);
 
+// Fills every node's subtree_pieces and bounds_min/max (blob_format.h) from its pieces' vertices as
+// the renderer dequantizes them; one reverse pass (children follow their parent breadth-first).
+void fill_subtree_bounds(const std::vector<Batch>& batches, const std::vector<Triangle>& triangles,
+                         const std::vector<Vertex>& vertices, BspResult* bsp);
+
 }  // namespace scenec_detail
 }  // namespace ml

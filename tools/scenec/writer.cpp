@@ -261,6 +261,7 @@ CompileResult compile_mesh(const SceneMesh& mesh, const CompileOptions& options)
     if (options.build_bsp) {
       const auto bsp_start = std::chrono::steady_clock::now();
       if (!scenec_detail::build_bsp(batches, triangles, &vertices, options, &bsp, &result.error)) return result;
+      scenec_detail::fill_subtree_bounds(batches, triangles, vertices, &bsp);
       result.report.bsp_seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - bsp_start).count();
     }
