@@ -42,14 +42,15 @@ SCENEC_SOBJ:= $(call san,$(SCENEC_SRC))
 HOST_SOBJ  := $(call san,$(HOST_SRC))
 TEST_SOBJ  := $(call san,$(TEST_SRC))
 
-.PHONY: all test demo tables fuzz bench clean bootstrap firmware
+.PHONY: all test demo tables fuzz bench clean bootstrap
 # Every entry target installs missing packages first, then builds in a sub-make: with -j the compiles
 # must not start before the headers they need are installed. Parallel by default (2 cores).
+ifeq ($(MAKELEVEL),0)
 MAKEFLAGS += -j2
-SUBMAKE = @$(MAKE) --no-print-directory
+endif
 
 all: bootstrap
-	$(SUBMAKE) $(BUILD)/maskline $(BUILD)/maskgen
+	@$(MAKE) --no-print-directory $(BUILD)/maskline $(BUILD)/maskgen
 
 bootstrap:
 	@bash tools/bootstrap.sh
@@ -104,11 +105,11 @@ $(BUILD)/fuzz_blob_reader: $(FUZZ_SRC) $(shell find src tables -name '*.h')
 	$(CLANGXX) $(CXXSTD) $(INCLUDES) -O1 -g -fno-exceptions -fsanitize=fuzzer,address,undefined -o $@ $(FUZZ_SRC)
 
 fuzz: bootstrap
-	$(SUBMAKE) $(BUILD)/fuzz_blob_reader $(BUILD)/maskline
+	@$(MAKE) --no-print-directory $(BUILD)/fuzz_blob_reader $(BUILD)/maskline
 	bash tests/fuzz/run.sh $(BUILD) 60
 
 test: bootstrap
-	$(SUBMAKE) $(BUILD)/san/tests $(BUILD)/san/maskline $(BUILD)/maskgen $(BUILD)/fuzz_blob_reader
+	@$(MAKE) --no-print-directory $(BUILD)/san/tests $(BUILD)/san/maskline $(BUILD)/maskgen $(BUILD)/fuzz_blob_reader
 	@bash tests/run_all.sh $(BUILD) $(MASK_K)
 
 tables: $(BUILD)/maskgen
@@ -118,7 +119,7 @@ demo: all
 	@bash tools/demo.sh $(BUILD)
 
 bench: all
-	$(SUBMAKE) $(BUILD)/bench
+	@$(MAKE) --no-print-directory $(BUILD)/bench
 	@bash tools/bench/run.sh $(BUILD)
 
 clean:
