@@ -273,11 +273,7 @@ int cmd_compile(int argc, char** argv) {
   std::string error;
   if (!mlhost::load_scene(in, &loaded, &error, true)) failure(error);
   for (const auto& w : loaded.warnings) fprintf(stderr, "maskline: warning: %s\n", w.c_str());
-  FILE* f = fopen(out->c_str(), "wb");
-  if (!f) failure("cannot write " + *out + ": " + strerror(errno));
-  const size_t written = fwrite(loaded.blob.data(), 1, loaded.blob.size, f);
-  const bool ok = written == loaded.blob.size && fclose(f) == 0;
-  if (!ok) failure("cannot write " + *out + ": " + strerror(errno));
+  if (!ml::save_blob_file(*out, loaded.blob, &error)) failure(error);
   const ml::Scene& s = loaded.scene;
   printf("wrote %s: %zu bytes, %u triangles, %u nodes, %u materials, %u BSP nodes, %u pieces\n", out->c_str(),
          loaded.blob.size, s.triangle_count, s.node_count, s.material_count, s.bsp_node_count, s.bsp_piece_count);

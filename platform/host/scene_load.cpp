@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <utility>
 #include <condition_variable>
 #include <mutex>
 #include <thread>
@@ -63,14 +64,14 @@ bool validate(LoadedScene* out, std::string* error) {
 
 }  // namespace
 
-bool adopt_compiled(const ml::CompileResult& result, const std::string& name, LoadedScene* out, std::string* error) {
+bool adopt_compiled(ml::CompileResult result, const std::string& name, LoadedScene* out, std::string* error) {
   out->name = name;
   if (!result.ok) {
     *error = result.error.empty() ? name + ": compile failed" : result.error;
     return false;
   }
-  out->blob = result.blob;
-  out->warnings = result.warnings;
+  out->blob = std::move(result.blob);  // a big scene's blob is tens of megabytes: never copy it
+  out->warnings = std::move(result.warnings);
   out->camera = result.camera;
   return validate(out, error);
 }

@@ -25,7 +25,7 @@ struct LoadedScene {
 bool load_scene(const std::string& path, LoadedScene* out, std::string* error, bool progress = false);
 
 // Validates a compiled blob into `out` (blob and scene); false with a one-line message.
-bool adopt_compiled(const ml::CompileResult& result, const std::string& name, LoadedScene* out, std::string* error);
+bool adopt_compiled(ml::CompileResult result, const std::string& name, LoadedScene* out, std::string* error);
 
 // glTF units <-> world units (blob_format.h: world = (gltf - gltf_center) * gltf_to_world).
 struct GltfMapping {

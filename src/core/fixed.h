@@ -113,11 +113,7 @@ inline uint64_t isqrt64(uint64_t v) {
 }
 
 // Number of significant bits of v (0 for v == 0).
-inline int bit_length(uint64_t v) {
-  int n = 0;
-  while (v) { ++n; v >>= 1; }
-  return n;
-}
+inline int bit_length(uint64_t v) { return v ? 64 - __builtin_clzll(v) : 0; }
 
 struct Vec3i {
   int32_t x, y, z;

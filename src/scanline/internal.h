@@ -69,8 +69,6 @@ void depth_plane(ActiveTri* t, const uint32_t depth[3], const Lattice& lat);
 // Barycentric weights (Q16, summing to 65536) of the piece's vertices at sample (X, Y).
 void sample_weights(const ActiveTri& t, const Lattice& lat, int32_t x, int32_t y, int32_t w[3]);
 
-// Weighted vertex colours.
-Pixel interpolate_color(const Pixel c[3], const int32_t w[3]);
 
 // Interpolated vertex normal (Q1.14 in, Q1.14 out) renormalized with Newton steps
 // x1 = x0 (1.5 - 0.5 |x0|^2) (Woo & Chall §4.4, core/fixed.h newton_renormalize_q14), no sqrt.

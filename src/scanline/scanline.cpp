@@ -113,16 +113,6 @@ void sample_weights(const ActiveTri& t, const Lattice& lat, int32_t x, int32_t y
   w[0] = kWeightOne - w[1] - w[2];
 }
 
-Pixel interpolate_color(const Pixel c[3], const int32_t w[3]) {
-  uint32_t out = 0;
-  for (int s = 16; s >= 0; s -= 8) {
-    int64_t sum = 0;
-    for (int j = 0; j < 3; ++j) sum += int64_t((c[j] >> s) & 0xFF) * w[j];
-    out |= uint32_t(clamp_to<int64_t>((sum + (1 << 15)) >> kWeightBits, 0, 255)) << s;
-  }
-  return out;
-}
-
 Vec3i interpolate_normal(const int16_t n[3][3], const int32_t w[3], int steps) {
   int64_t acc[3] = {0, 0, 0};
   for (int j = 0; j < 3; ++j)
@@ -298,7 +288,7 @@ struct Renderer {
   ActiveTri* act = nullptr;
   uint32_t* ord = nullptr;   // live slots sorted by min_x
   uint32_t* xact = nullptr;
-  uint32_t m = 0, live = 0, high = 0;
+  uint32_t live = 0, high = 0;
   uint32_t free_head = 0xFFFFFFFFu;  // finished slots, linked through ActiveTri::id
   uint32_t* keep_surface = nullptr;  // keepObj: surface key per pixel column (0 = none); output row
   uint32_t* keep_rgb = nullptr;      // keepObj: last colour | kValid | kForce
@@ -333,7 +323,7 @@ struct Renderer {
     for (int i = 0; i < 3; ++i) {
       const int j = i == 2 ? 0 : i + 1;
       const int64_t ea = int64_t(a.vy[i]) - a.vy[j], eb = int64_t(a.vx[j]) - a.vx[i];
-      if (!(ea > 0 || (ea == 0 && eb > 0))) flags |= uint8_t(1 << i);  // view.h top-left rule
+      if (!is_top_left(ea, eb)) flags |= uint8_t(1 << i);
     }
     if (t.front_facing) flags |= kFront;
     const Material& mat = material_of(*scene, id);
@@ -387,7 +377,7 @@ struct Renderer {
     if (!(a.flags & kSmooth)) return a.color[0];
     int32_t w[3];
     sample_weights(a, s.lat, x, y, w);
-    return interpolate_color(a.color, w);
+    return blend_colors(a.color, w);
   }
 
   void mark_drawn(ActiveTri& a) {
@@ -740,7 +730,6 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
       "arena too small for the scanline renderer", start + z.need()); }
   r.ys = ys;
   r.n = n;
-  r.m = m;
   r.act = static_cast<ActiveTri*>(arena.allocate(z.yactive, 8));
   r.ord = static_cast<uint32_t*>(arena.allocate(z.ord, 8));
   r.xact = static_cast<uint32_t*>(arena.allocate(z.xactive, 8));

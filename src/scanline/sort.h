@@ -1,7 +1,8 @@
 // The two sorts of Woo & Chall §3.3, without recursion and without heap memory.
 //  - ySortList: quicksort with an explicit stack (the larger part is pushed, the smaller one is
-//    worked on next, so the stack never holds more than log2(n) ranges: 32 entries, 256 bytes), and
-//    one insertion-sort pass over the runs it leaves shorter than kQuickCutoff.
+//    worked on next, so the stack never holds more than log2(n) ranges: at most 34 entries of
+//    8 bytes, 272 bytes), and one insertion-sort pass over the runs it leaves shorter than
+//    kQuickCutoff.
 //  - yActiveList order: heap sort, or insertion sort below kActiveInsertionMax entries (the
 //    threshold is measured, docs/scanline.md).
 // Both count comparisons + element moves in *work (Stats::sort_instructions).

@@ -66,6 +66,16 @@ inline uint64_t wide_div_round_low(Wide n, int64_t d) {
   return neg ? uint64_t(0) - q_lo : q_lo;
 }
 
+// (a0 b0 + a1 b1 + a2 b2) * 2^shift / d rounded, low 64 bits. The portable version is always
+// available so tests can compare it with the fast path.
+inline uint64_t mul_add3_div_round_low_portable(const int64_t a[3], const int64_t b[3], int shift, int64_t d) {
+  Wide n = wide_mul(a[0], b[0]);
+  n = wide_add(n, wide_mul(a[1], b[1]));
+  n = wide_add(n, wide_mul(a[2], b[2]));
+  if (shift > 0) n = wide_shl(n, shift);
+  return wide_div_round_low(n, d);
+}
+
 // Fast path where the compiler has a 128-bit integer (x86-64, AArch64); same results.
 #if defined(__SIZEOF_INT128__) && !defined(ML_PORTABLE_WIDE)
 inline uint64_t mul_add3_div_round_low(const int64_t a[3], const int64_t b[3], int shift, int64_t d) {
@@ -78,22 +88,9 @@ inline uint64_t mul_add3_div_round_low(const int64_t a[3], const int64_t b[3], i
 }
 #else
 inline uint64_t mul_add3_div_round_low(const int64_t a[3], const int64_t b[3], int shift, int64_t d) {
-  Wide n = wide_mul(a[0], b[0]);
-  n = wide_add(n, wide_mul(a[1], b[1]));
-  n = wide_add(n, wide_mul(a[2], b[2]));
-  if (shift > 0) n = wide_shl(n, shift);
-  return wide_div_round_low(n, d);
+  return mul_add3_div_round_low_portable(a, b, shift, d);
 }
 #endif
-
-// The portable version, always available so tests can compare it with the fast path.
-inline uint64_t mul_add3_div_round_low_portable(const int64_t a[3], const int64_t b[3], int shift, int64_t d) {
-  Wide n = wide_mul(a[0], b[0]);
-  n = wide_add(n, wide_mul(a[1], b[1]));
-  n = wide_add(n, wide_mul(a[2], b[2]));
-  if (shift > 0) n = wide_shl(n, shift);
-  return wide_div_round_low(n, d);
-}
 
 }  // namespace scan
 }  // namespace ml

@@ -60,6 +60,9 @@ struct LinearPlane {
 // The plane through (v[i].x, v[i].y, values[i]) of a projected triangle.
 LinearPlane make_plane(const ScreenTriangle& tri, const int32_t values[3]);
 
+// c[0] w[0] + c[1] w[1] + c[2] w[2] per channel, weights Q16 summing to 65536, rounded and saturated.
+Pixel blend_colors(const Pixel c[3], const int32_t w[3]);
+
 // The colour of piece vertex i of a projected triangle, from the original triangle's vertex colours
 // and the piece vertex's barycentric weights.
 Pixel blend_vertex_color(const TriangleColors& colors, const ScreenVertex& v);

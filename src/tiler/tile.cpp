@@ -169,17 +169,12 @@ bool HierTiler::tile_cell(int level, int mx, int my, const Edges& in, CoverageWr
   a &= box_bits(level, mx, my);  // conservative masks may call subcells beside the box active
   const int64_t q = int64_t(pitch_) << (s - 3);
   const bool child_finest = level + 1 == lay.finest();
-  Edges child;
-  child.n = act.n;
-  for (int i = 0; i < act.n; ++i) {
-    child.a[i] = act.a[i];
-    child.b[i] = act.b[i];
-  }
+  Edges child = act;  // same edges; at_subcell moves their values to each child's corner
   while (a != 0) {
     const int bit = __builtin_ctzll(a);
     a &= a - 1;
     const int col = bit & 7, row = bit >> 3;
-    for (int i = 0; i < act.n; ++i) child.e[i] = act.e[i] + act.a[i] * (q * col) + act.b[i] * (q * row);
+    child.at_subcell(act, q, col, row);
     const int cx = mx * 8 + col, cy = my * 8 + row;
     if (!tile_cell(level + 1, cx, cy, child, writer)) return false;
     const uint64_t m = uint64_t(1) << bit;
@@ -212,17 +207,12 @@ bool HierTiler::query_cell(int level, int mx, int my, const Edges& in) const {
   if ((pc & ~sm.c) != 0) return true;
   uint64_t a = ~(pv | sm.c | pc);
   const int64_t q = int64_t(pitch_) << (lay.shift(level) - 3);
-  Edges child;
-  child.n = act.n;
-  for (int i = 0; i < act.n; ++i) {
-    child.a[i] = act.a[i];
-    child.b[i] = act.b[i];
-  }
+  Edges child = act;  // same edges; at_subcell moves their values to each child's corner
   while (a != 0) {
     const int bit = __builtin_ctzll(a);
     a &= a - 1;
     const int col = bit & 7, row = bit >> 3;
-    for (int i = 0; i < act.n; ++i) child.e[i] = act.e[i] + act.a[i] * (q * col) + act.b[i] * (q * row);
+    child.at_subcell(act, q, col, row);
     if (query_cell(level + 1, mx * 8 + col, my * 8 + row, child)) return true;
   }
   return false;

@@ -90,6 +90,12 @@ class HierTiler {
     int n;
     int64_t a[kMaxPolyEdges], b[kMaxPolyEdges];
     int64_t e[kMaxPolyEdges];  // value at the cell's top-left corner
+
+    // This cell's edges (same n, a, b) at the top-left corner of subcell (col, row) of `cell`,
+    // whose subcells are q subpixels wide.
+    void at_subcell(const Edges& cell, int64_t q, int col, int row) {
+      for (int i = 0; i < n; ++i) e[i] = cell.e[i] + cell.a[i] * (q * col) + cell.b[i] * (q * row);
+    }
   };
   static bool edges_mask(const Edges& in, int64_t side, Edges* crossing, uint64_t* pc, uint64_t* pv);
   bool poly_mask(int level, const Edges& in, Edges* crossing, uint64_t* pc, uint64_t* pv) const;

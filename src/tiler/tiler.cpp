@@ -181,7 +181,8 @@ bool box_screen_rect(const View& view, const BspNode& node, int32_t* x0, int32_t
   const int64_t ext[3] = {int64_t(node.bounds_max[0]) - node.bounds_min[0],
                           int64_t(node.bounds_max[1]) - node.bounds_min[1],
                           int64_t(node.bounds_max[2]) - node.bounds_min[2]};
-  // base[r] = row r . (min - eye); step[a][r] = row r . (ext[a] e_a): |values| < 2^52, sums < 2^54.
+  // base[r] = row r . (min - eye); step[a][r] = row r . (ext[a] e_a): |values| < 2^56 (eye and
+  // corners below 2^24), sums below 2^58.
   int64_t base[3], step[3][3];
   for (int r = 0; r < 3; ++r) {
     const int64_t m[3] = {rows[r]->x, rows[r]->y, rows[r]->z};

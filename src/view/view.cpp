@@ -178,7 +178,7 @@ bool orient(ScreenTriangle* t) {
     t->v[1] = t->v[2];
     t->v[2] = tmp;
   }
-  t->area2 = area2 < 0 ? -area2 : area2;
+  t->area2 = abs64(area2);
   return true;
 }
 
@@ -298,8 +298,7 @@ void setup_triangle(const ScreenTriangle& tri, int width, int height, TriangleSe
     e.a = int64_t(p.y) - q.y;
     e.b = int64_t(q.x) - p.x;
     e.c = -(e.a * p.x + e.b * p.y);
-    const bool top_left = e.a > 0 || (e.a == 0 && e.b > 0);
-    if (!top_left) e.c -= 1;  // E == 0 on this edge is outside
+    if (!is_top_left(e.a, e.b)) e.c -= 1;  // E == 0 on this edge is outside
     min_x = min_of(min_x, p.x); max_x = max_of(max_x, p.x);
     min_y = min_of(min_y, p.y); max_y = max_of(max_y, p.y);
   }

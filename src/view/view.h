@@ -83,6 +83,10 @@ int project_triangle(const View& view, const Vec3i world[3], ScreenTriangle out[
 // is a piece of (BSP pieces take their original triangle's facing).
 int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenTriangle out[kMaxClipTriangles]);
 
+// The fill rule for an edge with E(x, y) = a x + b y + c: samples exactly on it are covered only if it
+// is a left edge (a > 0) or a top edge (a == 0, b > 0).
+inline bool is_top_left(int64_t a, int64_t b) { return a > 0 || (a == 0 && b > 0); }
+
 struct EdgeFunction {
   int64_t a, b, c;    // E(x, y) = a x + b y + c, x and y in subpixels, fill rule folded into c
   int64_t at(int64_t x, int64_t y) const { return a * x + b * y + c; }

@@ -1,9 +1,7 @@
 // Bad input is normal input: every glTF file Debian's assimp-testmodels ships (good, odd and broken)
 // either renders to a PNG or is rejected with one line and exit code 1 -- never a crash, a sanitizer
 // report or a hang.
-#include <dirent.h>
 #include <gtest/gtest.h>
-#include <sys/stat.h>
 
 #include <algorithm>
 #include <string>
@@ -11,39 +9,13 @@
 
 #include "platform/host/png_io.h"
 #include "tests/cli/cli_runner.h"
+#include "tests/common/gltf_files.h"
 
 namespace {
 
-const char* const kModels = "/usr/share/assimp/models/glTF2";
-
-void collect(const std::string& dir, std::vector<std::string>* out) {
-  DIR* d = opendir(dir.c_str());
-  if (!d) return;
-  while (dirent* e = readdir(d)) {
-    const std::string name = e->d_name;
-    if (name == "." || name == "..") continue;
-    const std::string path = dir + "/" + name;
-    struct stat st;
-    if (stat(path.c_str(), &st) != 0) continue;
-    if (S_ISDIR(st.st_mode)) {
-      collect(path, out);
-    } else {
-      std::string lower = name;
-      std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(tolower(c)); });
-      const auto ends = [&](const std::string& ext) {
-        return lower.size() > ext.size() && lower.compare(lower.size() - ext.size(), ext.size(), ext) == 0;
-      };
-      if (ends(".gltf") || ends(".glb")) out->push_back(path);
-    }
-  }
-  closedir(d);
-}
-
 TEST(CliModels, EveryAssimpGltfRendersOrFailsWithOneLine) {
-  std::vector<std::string> files;
-  collect(kModels, &files);
+  const std::vector<std::string> files = testfiles::gltf_files_under(testfiles::kAssimpGltf2Models);
   if (files.empty()) GTEST_SKIP() << "assimp-testmodels not installed";
-  std::sort(files.begin(), files.end());
   const std::string dir = clitest::make_temp_dir();
   const std::string png = dir + "/out.png";
   int rendered = 0, rejected = 0;

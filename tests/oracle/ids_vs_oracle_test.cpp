@@ -3,7 +3,6 @@
 // pixel from every projected edge and whose front surface is not a depth tie; the two renderers share
 // one coverage rule, so they must agree exactly wherever the front surface is not a tie.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <random>
 #include <string>
@@ -13,6 +12,7 @@
 #include "platform/host/image_sink.h"
 #include "platform/host/scene_load.h"
 #include "render/render.h"
+#include "tests/common/engine_scene.h"
 #include "tests/oracle/oracle.h"
 #include "tests/oracle/scene_triangles.h"
 #include "tools/scenec/scenec.h"
@@ -100,21 +100,7 @@ const mlhost::LoadedScene& default_scene() {
   return scene;
 }
 
-const mlhost::LoadedScene* engine_scene() {
-  static mlhost::LoadedScene scene;
-  static int state = 0;  // 0 not tried, 1 loaded, 2 not installed, 3 failed to load
-  if (state == 0) {
-    std::string error;
-    const std::string path = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
-    if (access(path.c_str(), R_OK) != 0) {
-      state = 2;  // assimp-testmodels not installed
-    } else {
-      state = mlhost::load_scene(path, &scene, &error) ? 1 : 3;
-      if (state == 3) ADD_FAILURE() << error;
-    }
-  }
-  return state == 1 ? &scene : nullptr;
-}
+using testfiles::engine_scene;
 
 ml::Camera framing(const ml::Scene& scene, int w, int h) {
   const ml::SceneInfo& i = *scene.info;

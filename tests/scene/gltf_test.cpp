@@ -4,9 +4,6 @@
 // texture coordinates and materials.
 #include <gtest/gtest.h>
 
-#include <dirent.h>
-#include <sys/stat.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -23,26 +20,6 @@ using namespace ml;
 
 namespace {
 
-void walk(const std::string& dir, std::vector<std::string>* out) {
-  DIR* d = opendir(dir.c_str());
-  if (!d) return;
-  while (dirent* e = readdir(d)) {
-    const std::string name = e->d_name;
-    if (name == "." || name == "..") continue;
-    const std::string path = dir + "/" + name;
-    struct stat st;
-    if (stat(path.c_str(), &st) != 0) continue;
-    if (S_ISDIR(st.st_mode)) {
-      walk(path, out);
-    } else {
-      const size_t dot = name.rfind('.');
-      const std::string ext = dot == std::string::npos ? "" : name.substr(dot);
-      if (ext == ".gltf" || ext == ".glb") out->push_back(path);
-    }
-  }
-  closedir(d);
-  std::sort(out->begin(), out->end());
-}
 
 float bits_to_float(uint32_t u) {
   float f;
@@ -196,8 +173,7 @@ Written write_test_gltf(const std::string& dir, int scene_index) {
 }  // namespace
 
 TEST(SceneGltf, EveryAssimpModelCompilesOrFailsCleanly) {
-  std::vector<std::string> files;
-  walk(scenetest::kModels, &files);
+  const std::vector<std::string> files = testfiles::gltf_files_under(scenetest::kModels);
   if (files.empty()) GTEST_SKIP() << "assimp-testmodels not installed";
   int compiled = 0, rejected = 0;
   for (const std::string& path : files) {

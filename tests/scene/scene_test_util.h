@@ -11,11 +11,12 @@
 #include <unistd.h>
 
 #include "scene/scene.h"
+#include "tests/common/gltf_files.h"
 #include "tools/scenec/scenec.h"
 
 namespace scenetest {
 
-constexpr const char* kModels = "/usr/share/assimp/models/glTF2";
+constexpr const char* kModels = testfiles::kAssimpGltf2Models;
 inline std::string engine_path() {
   return std::string(kModels) + "/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
 }

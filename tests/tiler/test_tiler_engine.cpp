@@ -8,28 +8,13 @@
 
 #include "core/arena.h"
 #include "platform/host/scene_load.h"
+#include "tests/common/engine_scene.h"
 #include "tests/tiler/tiler_test_util.h"
 #include "tiler/tiler.h"
 
 namespace {
 
-const mlhost::LoadedScene* engine() {
-  static mlhost::LoadedScene scene;
-  static int state = 0;  // 0 not tried, 1 loaded, 2 unavailable
-  if (state == 0) {
-    std::string error;
-    const std::string path = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
-    FILE* f = std::fopen(path.c_str(), "rb");
-    if (!f) {
-      state = 2;
-    } else {
-      std::fclose(f);
-      state = mlhost::load_scene(path, &scene, &error) ? 1 : 3;
-      if (state == 3) ADD_FAILURE() << "2CylinderEngine.glb did not load: " << error;
-    }
-  }
-  return state == 1 ? &scene : nullptr;
-}
+const mlhost::LoadedScene* engine() { return testfiles::engine_scene(); }
 
 TEST(TilerEngine, EveryPixelOnceAt320x240AndOthers) {
   const mlhost::LoadedScene* s = engine();

@@ -178,6 +178,10 @@ int prepare(const std::string& what, const std::string& out) {
 
 int frame(const std::string& path, const std::string& renderer, const std::string& size, int aa,
           ml::ShadingMode shading) {
+  int w = 0, h = 0;
+  if (sscanf(size.c_str(), "%dx%d", &w, &h) != 2 || w < 1 || h < 1 || w > ml::kMaxScreenDim ||
+      h > ml::kMaxScreenDim)
+    return usage();
   mlhost::LoadedScene loaded;
   std::string error;
   if (!mlhost::load_scene(path, &loaded, &error)) {
@@ -185,8 +189,6 @@ int frame(const std::string& path, const std::string& renderer, const std::strin
     return 1;
   }
   const ml::Scene& scene = loaded.scene;
-  int w = 0, h = 0;
-  if (sscanf(size.c_str(), "%dx%d", &w, &h) != 2) return usage();
   const ml::SceneInfo& info = *scene.info;
   ml::Camera camera = ml::frame_sphere(ml::Vec3i{info.sphere_center[0], info.sphere_center[1], info.sphere_center[2]},
                                        info.sphere_radius, w, h, 45 << 16);

@@ -17,12 +17,10 @@ int usage() {
 
 bool write_file(const std::string& path, const std::string& text) {
   FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) {
-    std::fprintf(stderr, "maskgen: cannot write %s\n", path.c_str());
-    return false;
-  }
-  const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-  return std::fclose(f) == 0 && ok;
+  const bool wrote = f && std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  const bool closed = f && std::fclose(f) == 0;
+  if (!wrote || !closed) std::fprintf(stderr, "maskgen: cannot write %s\n", path.c_str());
+  return wrote && closed;
 }
 
 std::string header_text(int k, const std::vector<maskgen::Entry>& t, uint32_t crc) {

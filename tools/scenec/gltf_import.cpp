@@ -12,6 +12,7 @@
 #include <iterator>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 
 #include <tiny_gltf.h>
 
@@ -134,48 +135,27 @@ bool local_transform(const tinygltf::Node& node, int index, Mat4* out, std::stri
 
 // ---- accessors ---------------------------------------------------------------------------------------
 
+// One component of type T, unaligned. A normalized signed integer maps to [-1, 1] (the most negative
+// value clamps to -1), an unsigned one to [0, 1], as the glTF specification says.
+template <typename T>
+double load_component(const unsigned char* p, bool normalized) {
+  T v;
+  std::memcpy(&v, p, sizeof v);
+  if (!normalized || !std::is_integral<T>::value) return double(v);
+  const double scaled = double(v) / double(std::numeric_limits<T>::max());
+  return std::is_signed<T>::value ? std::max(scaled, -1.0) : scaled;
+}
+
 double component_value(const unsigned char* p, int type, bool normalized) {
   switch (type) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE: {
-      int8_t v;
-      std::memcpy(&v, p, 1);
-      return normalized ? std::max(v / 127.0, -1.0) : v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
-      uint8_t v;
-      std::memcpy(&v, p, 1);
-      return normalized ? v / 255.0 : v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_SHORT: {
-      int16_t v;
-      std::memcpy(&v, p, 2);
-      return normalized ? std::max(v / 32767.0, -1.0) : v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-      uint16_t v;
-      std::memcpy(&v, p, 2);
-      return normalized ? v / 65535.0 : v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_INT: {
-      int32_t v;
-      std::memcpy(&v, p, 4);
-      return normalized ? std::max(v / 2147483647.0, -1.0) : v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
-      uint32_t v;
-      std::memcpy(&v, p, 4);
-      return normalized ? v / 4294967295.0 : v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
-      float v;
-      std::memcpy(&v, p, 4);
-      return v;
-    }
-    case TINYGLTF_COMPONENT_TYPE_DOUBLE: {
-      double v;
-      std::memcpy(&v, p, 8);
-      return v;
-    }
+    case TINYGLTF_COMPONENT_TYPE_BYTE: return load_component<int8_t>(p, normalized);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return load_component<uint8_t>(p, normalized);
+    case TINYGLTF_COMPONENT_TYPE_SHORT: return load_component<int16_t>(p, normalized);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return load_component<uint16_t>(p, normalized);
+    case TINYGLTF_COMPONENT_TYPE_INT: return load_component<int32_t>(p, normalized);
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return load_component<uint32_t>(p, normalized);
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return load_component<float>(p, normalized);
+    case TINYGLTF_COMPONENT_TYPE_DOUBLE: return load_component<double>(p, normalized);
   }
   return 0;
 }

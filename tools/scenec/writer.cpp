@@ -279,8 +279,10 @@ CompileResult compile_mesh(const SceneMesh& mesh, const CompileOptions& options)
     for (const Batch& b : batches) {
       for (uint32_t i = 0; i < b.vertex_count; ++i) extend(dequantize(b, vertices[b.first_vertex + i].position));
     }
-    for (const BspPiece& p : bsp.pieces) {
-      for (uint32_t v : p.v) extend(dequantize(batches[triangles[p.triangle].batch], vertices[v].position));
+    if (!bsp.nodes.empty()) {  // split points: the root's subtree bounds already hold every piece vertex
+      const BspNode& root = bsp.nodes[0];
+      extend(Vec3i{root.bounds_min[0], root.bounds_min[1], root.bounds_min[2]});
+      extend(Vec3i{root.bounds_max[0], root.bounds_max[1], root.bounds_max[2]});
     }
     double radius2 = 0;
     for (int a = 0; a < 3; ++a) {
