@@ -58,11 +58,31 @@ constexpr int kFocalBits = 8;
 
 // ---- integer helpers -------------------------------------------------------------------------
 
+// The common type of two integer types of the same signedness (the wider one).
+template <typename A, typename B>
+struct CommonIntOf {
+  static_assert((A(-1) < A(0)) == (B(-1) < B(0)), "mixing signed and unsigned operands");
+  using type = decltype(A(0) + B(0));
+};
+
 inline int64_t abs64(int64_t v) { return v < 0 ? -v : v; }
 inline int32_t abs32(int32_t v) { return v < 0 ? -v : v; }
+// min_of, max_of and clamp_to take operands of one signedness and any widths: on arm-none-eabi
+// int32_t is long, so an int32_t meets an int literal in ordinary code. The result has the wider
+// type (common type); mixing signed and unsigned is a compile error rather than a silent conversion.
+template <typename A, typename B>
+using CommonInt = typename CommonIntOf<A, B>::type;
 template <typename T> inline T min_of(T a, T b) { return a < b ? a : b; }
 template <typename T> inline T max_of(T a, T b) { return a > b ? a : b; }
 template <typename T> inline T clamp_to(T v, T lo, T hi) { return v < lo ? lo : (v > hi ? hi : v); }
+template <typename A, typename B>
+inline CommonInt<A, B> min_of(A a, B b) { return min_of<CommonInt<A, B>>(a, b); }
+template <typename A, typename B>
+inline CommonInt<A, B> max_of(A a, B b) { return max_of<CommonInt<A, B>>(a, b); }
+template <typename A, typename B, typename C>
+inline CommonInt<CommonInt<A, B>, C> clamp_to(A v, B lo, C hi) {
+  return clamp_to<CommonInt<CommonInt<A, B>, C>>(v, lo, hi);
+}
 
 // Arithmetic shift right that rounds to nearest (ties away from zero). s in [1, 62].
 inline int64_t shift_round(int64_t v, int s) {

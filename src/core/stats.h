@@ -14,8 +14,11 @@ struct Stats {
   uint32_t triangles_in = 0;           // triangles in the scene
   uint32_t triangles_culled = 0;       // back-facing, behind the eye, off screen, degenerate, or hidden
   uint32_t triangles_drawn = 0;        // triangles (pieces) that wrote at least one pixel
-  uint64_t pixel_writes = 0;           // pixels handed to the sink (a block of n pixels counts n)
-  uint64_t sink_calls = 0;             // write_block + fill_block calls
+  uint64_t pixel_writes = 0;           // pixels packed into band buffers (a block of n pixels counts n)
+  uint64_t sink_calls = 0;             // flush() calls: one per band
+  uint32_t bands = 0;                  // bands rendered (each flushed once)
+  uint64_t display_bytes = 0;          // bytes on the bus or into the framebuffer, commands included
+  uint32_t display_windows = 0;        // address-window commands sent to the display
   uint64_t shading_calls = 0;          // colour evaluations
   uint32_t peak_arena_bytes = 0;
 

@@ -4,19 +4,13 @@
 #include <stdint.h>
 
 #include "core/fixed.h"
+#include "core/options.h"
 #include "core/sink.h"
 #include "scene/scene.h"
 #include "view/view.h"
 
 namespace ml {
 
-enum class ShadingMode : uint8_t {
-  Unlit,    // base colour
-  Flat,     // face normal, one directional light + ambient
-  Gouraud,  // vertex normals lit per vertex, colours interpolated across the triangle
-  Ids,      // pixel = triangle id + 1 (core/sink.h)
-  Lines,    // hidden-line drawing (scanline renderer)
-};
 
 struct Light {
   Vec3i to_light;      // Q1.30 unit vector, world space, pointing towards the light

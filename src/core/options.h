@@ -1,0 +1,47 @@
+// What a caller chooses for one frame: renderer, shading, samples and the output format. Both
+// renderers and render() take these; they live in core so no module depends on render/.
+#pragma once
+#include <stdint.h>
+
+#include "core/sink.h"
+
+namespace ml {
+
+enum class RendererKind : uint8_t { Tiler, Scanline };
+
+enum class ShadingMode : uint8_t {
+  Unlit,    // base colour
+  Flat,     // face normal, one directional light + ambient
+  Gouraud,  // vertex normals lit per vertex, colours interpolated across the triangle
+  Ids,      // pixel = triangle id + 1 (core/sink.h)
+  Lines,    // hidden-line drawing (scanline renderer)
+};
+
+// Optional per-pixel work counter (Greene's work image): the tiler adds, for every pyramid cell it
+// visits, 1 / (pixels the cell covers) to each of those pixels, in Q16 units. Host-owned buffer of
+// width * height entries; null when not wanted.
+struct WorkImage {
+  uint32_t* q16 = nullptr;
+  int width = 0, height = 0;
+};
+
+// How pixels leave the renderer (core/sink.h): the display's format, ordered dithering where the
+// format loses precision, and the band buffers lent from the arena.
+struct OutputOptions {
+  PixelFormat format = PixelFormat::Xrgb8888;  // Id32 exactly when shading is Ids
+  bool dither = false;                         // 4x4 ordered dither (RGB565, grey, mono)
+  int band_rows = 16;                          // rows a band buffer holds; 0 = the whole frame
+  int buffers = 1;                             // 1, or 2 so sending one band overlaps the next
+};
+
+struct RenderOptions {
+  RendererKind renderer = RendererKind::Tiler;
+  ShadingMode shading = ShadingMode::Flat;
+  int aa = 1;                         // samples per pixel per axis (scanline: 1..8; tiler: 1)
+  Pixel background = 0x202830;        // 0x00RRGGBB; ignored (0) in Ids mode
+  uint32_t seed = 1;                  // for stochastic choices (adaptive shading, jitter)
+  WorkImage* work = nullptr;
+  OutputOptions output;
+};
+
+}  // namespace ml

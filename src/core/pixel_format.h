@@ -1,0 +1,62 @@
+// Packing pixels into a display's format (core/sink.h: PixelFormat), once, with optional ordered
+// dithering. Written down once here:
+// - Channel quantization to L + 1 levels (L = 31 for RGB565 red/blue, 63 green, 15 for Grey4, 1 for
+//   Mono1, 255 for Grey8): round to nearest, q = (v L + 127) / 255. With dithering, 4x4 Bayer
+//   threshold t(x, y) in 0..15 at frame pixel (x, y): q = (32 v L + (2t + 1) 255) / (32 * 255), the
+//   same levels on average, spread in a pattern fixed to the screen (no crawl between frames).
+// - Luma (grey and mono formats): (77 R + 150 G + 29 B + 128) >> 8 (BT.601 weights, Q8).
+// - Stored values: RGB565 as the 16-bit word rrrrrggggggbbbbb; grey as the level; mono as 0/1;
+//   Xrgb8888 as the word 0x00RRGGBB; Id32 as the id. expand_stored() maps a stored value back to
+//   0x00RRGGBB by bit replication (grey level n of Grey4 becomes n * 17 per channel).
+#pragma once
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/sink.h"
+
+namespace ml {
+
+int format_bits_per_pixel(PixelFormat format);
+// Band heights must be multiples of this (Mono1: a page of 8 rows; others 1).
+int format_row_unit(PixelFormat format);
+// Whether dithering is on unless the caller says otherwise: on for grey and mono, off otherwise.
+bool format_dithers_by_default(PixelFormat format);
+// Whether the format can lose colour precision (RGB565, grey, mono): dithering has an effect.
+bool format_is_lossy(PixelFormat format);
+// Bytes from one band row (Mono1: page) to the next, for a frame `width` pixels wide.
+uint32_t format_stride(PixelFormat format, int width);
+// Bytes of a band `rows` high (Mono1: rows rounded up to whole pages).
+uint32_t format_band_bytes(PixelFormat format, int width, int rows);
+
+// The value the format stores for pixel p at frame position (x, y) (position matters only when
+// dithering).
+uint32_t quantize_pixel(PixelFormat format, Pixel p, bool dither, int x, int y);
+// The colour a stored value shows as, 0x00RRGGBB (Id32: the id itself).
+Pixel expand_stored(PixelFormat format, uint32_t stored);
+
+// Writes n stored values into band row `row` (for Mono1: pixel row within the band), pixels x.. of a
+// band buffer with the given stride. Grey4 and Mono1 keep the neighbouring pixels' bits.
+void store_pixels(PixelFormat format, uint8_t* band, uint32_t stride, int x, int row,
+                  const uint32_t* stored, int n);
+// Reads back the stored value of pixel (x, row) of a band buffer.
+uint32_t load_pixel(PixelFormat format, const uint8_t* band, uint32_t stride, int x, int row);
+
+// Packs pixels into a band buffer: quantizes (dithering at frame row `frame_y`) and stores.
+class PixelPacker {
+ public:
+  void init(PixelFormat format, bool dither) {
+    format_ = format;
+    dither_ = dither && format_is_lossy(format);
+  }
+  PixelFormat format() const { return format_; }
+  // n pixels of one row from a buffer.
+  void put_row(uint8_t* band, uint32_t stride, int x, int row, int frame_y, const Pixel* pixels, int n) const;
+  // A w x h block of one colour.
+  void fill(uint8_t* band, uint32_t stride, int x, int row, int frame_y, int w, int h, Pixel value) const;
+
+ private:
+  PixelFormat format_ = PixelFormat::Xrgb8888;
+  bool dither_ = false;
+};
+
+}  // namespace ml
