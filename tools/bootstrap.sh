@@ -14,6 +14,10 @@ packages=(
   assimp-testmodels     # real glTF 2.0 inputs, good and broken
   valgrind              # instruction counts for benchmarks
   clang                 # libFuzzer target for the blob reader
+  zlib1g-dev            # static CLI build for the QEMU framebuffer test (libpng needs zlib)
+  gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib  # Cortex-M builds of src/
+  qemu-system-arm       # Cortex-M boards
+  qemu-system-x86 busybox-static cpio  # a real Linux /dev/fb0 under QEMU
 )
 
 missing=()
