@@ -86,7 +86,7 @@ TEST(CliImageSink, ReportsBandsOutOfOrderGapsAndUnwrittenPixels) {
   EXPECT_TRUE(poison.flush(band.at(0)));
   ml::PixelPacker packer;
   packer.init(ml::PixelFormat::Xrgb8888, false);
-  packer.fill(band.bytes.data(), 16, 0, 0, 2, 4, 2, 7);
+  packer.fill(band.bytes.data(), 16, 0, 0, 2, 4, 1, 7);
   packer.fill(band.bytes.data(), 16, 0, 1, 3, 3, 1, 7);  // misses pixel (3, 3)
   poison.flush(band.at(2));
   poison.end_frame();
