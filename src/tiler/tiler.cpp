@@ -168,8 +168,6 @@ void clip_to_triangle(const View& view, const ScreenTriangle& part, const Triang
 // least kCullMinPieces pieces whose world box projects to a screen rectangle without an uncovered
 // sample is skipped whole. Smaller subtrees are cheaper to walk than to test.
 constexpr uint32_t kCullMinPieces = 16;
-// A box wholly above or below the band is cheaper to find (no division): worth it for fewer pieces.
-constexpr uint32_t kBandCullMinPieces = 8;
 
 // The sample rectangle (inclusive, unclipped) that every sample any piece inside the node's box can
 // write lies in, or false when the box reaches the near plane (then the caller assumes visible).
@@ -240,39 +238,6 @@ struct BandRows {
     return true;
   }
 };
-
-// Whether the node's box lies wholly above or below the band's rows, without a division: the box
-// corners transformed as in box_screen_rect (widened for rounding), each tested as in
-// triangle_outside_rows. False when the box reaches the near plane.
-bool box_outside_rows(const View& view, const BspNode& node, const BandRows& band) {
-  constexpr int shift = kUnitBits - kViewFractionBits;
-  const Vec3i* rows[2] = {&view.down, &view.forward};
-  const int64_t d0[3] = {int64_t(node.bounds_min[0]) - view.eye.x, int64_t(node.bounds_min[1]) - view.eye.y,
-                         int64_t(node.bounds_min[2]) - view.eye.z};
-  const int64_t ext[3] = {int64_t(node.bounds_max[0]) - node.bounds_min[0],
-                          int64_t(node.bounds_max[1]) - node.bounds_min[1],
-                          int64_t(node.bounds_max[2]) - node.bounds_min[2]};
-  int64_t base[2], step[3][2];
-  for (int r = 0; r < 2; ++r) {
-    const int64_t m[3] = {rows[r]->x, rows[r]->y, rows[r]->z};
-    base[r] = m[0] * d0[0] + m[1] * d0[1] + m[2] * d0[2];
-    for (int a = 0; a < 3; ++a) step[a][r] = m[a] * ext[a];
-  }
-  const int64_t top = int64_t(view.center_y) - int64_t(band.top) * kSubpixelOne;
-  const int64_t bottom = int64_t(view.center_y) - int64_t(band.top + band.rows) * kSubpixelOne;
-  bool above = true, below = true;
-  for (int c = 0; c < 8 && (above || below); ++c) {
-    int64_t v[2];
-    for (int r = 0; r < 2; ++r)
-      v[r] = base[r] + ((c & 1) ? step[0][r] : 0) + ((c & 2) ? step[1][r] : 0) + ((c & 4) ? step[2][r] : 0);
-    const int64_t z_lo = (v[1] >> shift) - 1, z_hi = (v[1] >> shift) + 2;
-    if (z_lo <= view.near) return false;
-    const int64_t y_lo = (v[0] >> shift) - 1, y_hi = (v[0] >> shift) + 2;
-    above = above && view.focal_q8 * y_hi + top * (top > 0 ? z_hi : z_lo) < 0;
-    below = below && view.focal_q8 * y_lo + bottom * (bottom > 0 ? z_lo : z_hi) > 0;
-  }
-  return above || below;
-}
 
 // True when no sample of the band that a piece of the node's subtree could write is still uncovered
 // (or the subtree has no pieces).
@@ -378,7 +343,6 @@ Status TilerFrame::render_band(int band, Arena& arena) {
 
   // Front to back without recursion: one frame per node on the current root-to-node path; the far
   // child replaces its parent's frame, so the stack never holds more than the path.
-  const bool banded = band_.rows < camera_.height;
   const TriageMask& root = pyramid_.mask(0, 0, 0);
   uint32_t pieces_done = 0, visits = 0;
   size_t sp = 0;
@@ -394,8 +358,7 @@ Status TilerFrame::render_band(int band, Arena& arena) {
     const uint32_t near = side >= 0 ? node.front : node.back;
     const uint32_t far = side >= 0 ? node.back : node.front;
     if (!(f & kNearDone)) {
-      const bool outside = banded && node.subtree_pieces >= kBandCullMinPieces && box_outside_rows(view_, node, band_);
-      if (outside || (node.subtree_pieces >= kCullMinPieces && subtree_hidden(view_, band_, node, tiler_))) {
+      if (node.subtree_pieces >= kCullMinPieces && subtree_hidden(view_, band_, node, tiler_)) {
         // Every piece below is hidden (or outside the band).
         pieces_done += node.subtree_pieces;
         st_->triangles_culled += node.subtree_pieces;
