@@ -361,3 +361,96 @@ TEST(PanelEmulatorModel, St7789At240UsesTheRowOffset) {
 }
 
 }  // namespace
+
+namespace {
+
+// Logs every byte with its D/C level, the RESET edges and the delays.
+class LogTransport : public mlpanels::Transport {
+ public:
+  struct Byte {
+    bool data;
+    uint8_t value;
+  };
+  bool write_command(const uint8_t* b, size_t n) override {
+    writes.push_back(std::vector<uint8_t>(b, b + n));
+    for (size_t i = 0; i < n; ++i) bytes.push_back({false, b[i]});
+    return true;
+  }
+  bool write_data(const uint8_t* b, size_t n) override {
+    for (size_t i = 0; i < n; ++i) bytes.push_back({true, b[i]});
+    return true;
+  }
+  bool set_reset(bool high) override {
+    resets.push_back(high);
+    return true;
+  }
+  void delay_ms(uint32_t ms) override { total_delay += ms; }
+  std::vector<Byte> bytes;
+  std::vector<std::vector<uint8_t>> writes;  // command writes
+  std::vector<bool> resets;
+  uint64_t total_delay = 0;
+};
+
+// The opcodes (D/C low bytes) of a TFT stream, in order.
+std::vector<uint8_t> opcodes(const LogTransport& t) {
+  std::vector<uint8_t> out;
+  for (const auto& b : t.bytes)
+    if (!b.data) out.push_back(b.value);
+  return out;
+}
+
+TEST(PanelInit, TftSequence) {
+  for (const char* name : {"ili9341", "st7789"}) {
+    Panel p;
+    ASSERT_TRUE(mlpanels::make_panel(name, 270, &p));
+    LogTransport log;
+    mlpanels::PanelSink sink(p, log, 0);
+    ASSERT_TRUE(sink.init());
+    ASSERT_EQ(log.resets, (std::vector<bool>{true, false, true}));
+    const auto ops = opcodes(log);
+    std::vector<uint8_t> want = {0x01, 0x11, 0x3A, 0x36};
+    if (std::string(name) == "st7789") want.push_back(0x21);
+    want.push_back(0x13);
+    want.push_back(0x29);
+    EXPECT_EQ(ops, want) << name;
+    // COLMOD 0x55 and the rotation's MADCTL as data bytes after their opcodes.
+    bool colmod = false, madctl = false;
+    for (size_t i = 0; i + 1 < log.bytes.size(); ++i) {
+      if (!log.bytes[i].data && log.bytes[i].value == 0x3A) colmod = log.bytes[i + 1].data && log.bytes[i + 1].value == 0x55;
+      if (!log.bytes[i].data && log.bytes[i].value == 0x36)
+        madctl = log.bytes[i + 1].data && log.bytes[i + 1].value == p.orientation_byte();
+    }
+    EXPECT_TRUE(colmod && madctl) << name;
+    EXPECT_GE(log.total_delay, 120u + 150u + 120u);
+    EXPECT_EQ(sink.init_bytes(), log.bytes.size());
+  }
+}
+
+TEST(PanelInit, OledFramesUseOnlyWindowCommands) {
+  // QEMU's lm3s6965evb SSD0323 honours only 0x15, 0x75 and 0xA0: a frame must need nothing else.
+  for (const char* name : {"ssd0323", "ssd1306"}) {
+    Panel p;
+    ASSERT_TRUE(mlpanels::make_panel(name, 0, &p));
+    LogTransport log;
+    mlpanels::PanelSink sink(p, log, 0);
+    ASSERT_TRUE(sink.init());
+    bool remap_sent = false;
+    for (const auto& w : log.writes)
+      for (size_t i = 0; i + 1 < w.size(); ++i)
+        if (w[i] == 0xA0 && w[i + 1] == p.orientation_byte()) remap_sent = true;
+    if (std::string(name) == "ssd0323") {
+      EXPECT_TRUE(remap_sent);
+    }
+    log.writes.clear();
+    ASSERT_TRUE(panel_test::send_frame(sink, p.format(), panel_test::pattern(128, 64), 128, 64, 16));
+    ASSERT_EQ(log.writes.size(), 4u);
+    for (const auto& w : log.writes) {
+      ASSERT_EQ(w.size(), 6u);
+      EXPECT_EQ(w[0], std::string(name) == "ssd0323" ? 0x15 : 0x21);
+      EXPECT_EQ(w[3], std::string(name) == "ssd0323" ? 0x75 : 0x22);
+    }
+    EXPECT_EQ(log.writes[1][4], std::string(name) == "ssd0323" ? 16 : 2);  // second band's first row / page
+  }
+}
+
+}  // namespace
