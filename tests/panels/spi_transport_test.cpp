@@ -88,3 +88,37 @@ TEST(SpiTransport, BufsizFromSysfsOrDefault) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(SpiTransport, ParsesDisplaySpecs) {
+  mlpanels::SpiPanelConfig c;
+  std::string error;
+  ASSERT_TRUE(mlpanels::parse_spi_panel_spec("st7789-240,rotation=90,device=/dev/spidev1.0,speed=40000000,mode=3,"
+                                             "chip=gpiochip2,dc=17,reset=-1,max=1024",
+                                             &c, &error))
+      << error;
+  EXPECT_EQ(c.panel, "st7789-240");
+  EXPECT_EQ(c.rotation, 90);
+  EXPECT_EQ(c.device, "/dev/spidev1.0");
+  EXPECT_EQ(c.speed_hz, 40000000u);
+  EXPECT_EQ(c.mode, 3);
+  EXPECT_EQ(c.gpio_chip, "gpiochip2");
+  EXPECT_EQ(c.dc_line, 17);
+  EXPECT_EQ(c.reset_line, -1);
+  EXPECT_EQ(c.max_transfer, 1024u);
+  mlpanels::SpiPanelConfig d;
+  ASSERT_TRUE(mlpanels::parse_spi_panel_spec("ssd1306", &d, &error));
+  EXPECT_EQ(d.panel, "ssd1306");
+  EXPECT_EQ(d.device, "/dev/spidev0.0");
+  EXPECT_FALSE(mlpanels::parse_spi_panel_spec("", &d, &error));
+  EXPECT_FALSE(mlpanels::parse_spi_panel_spec("ili9341,dc", &d, &error));
+  EXPECT_FALSE(mlpanels::parse_spi_panel_spec("ili9341,dc=x", &d, &error));
+  EXPECT_NE(error.find("dc needs a number"), std::string::npos) << error;
+  EXPECT_FALSE(mlpanels::parse_spi_panel_spec("ili9341,mode=4", &d, &error));
+  EXPECT_FALSE(mlpanels::parse_spi_panel_spec("ili9341,colour=red", &d, &error));
+  EXPECT_NE(error.find("unknown option 'colour'"), std::string::npos) << error;
+  EXPECT_EQ(d.panel, "ssd1306");  // unchanged on failure
+}
+
+}  // namespace

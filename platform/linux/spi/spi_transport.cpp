@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <gpiod.h>
 #include <linux/spi/spidev.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/ioctl.h>
 #include <time.h>
@@ -20,6 +21,80 @@ constexpr const char* kConsumer = "maskline";
 std::string errno_text() { return strerror(errno); }
 
 }  // namespace
+
+bool parse_spi_panel_spec(const std::string& spec, SpiPanelConfig* out, std::string* error) {
+  std::string ignored;
+  if (!error) error = &ignored;
+  SpiPanelConfig c = *out;
+  size_t at = spec.find(',');
+  c.panel = spec.substr(0, at);
+  if (c.panel.empty()) {
+    *error = "spi display: panel name missing";
+    return false;
+  }
+  while (at != std::string::npos) {
+    const size_t next = spec.find(',', at + 1);
+    const std::string item = spec.substr(at + 1, next == std::string::npos ? std::string::npos : next - at - 1);
+    at = next;
+    const size_t eq = item.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      *error = "spi display: expected key=value, got '" + item + "'";
+      return false;
+    }
+    const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
+    if (key == "device") {
+      c.device = value;
+      continue;
+    }
+    if (key == "chip") {
+      c.gpio_chip = value;
+      continue;
+    }
+    static const char* const kNumeric[] = {"rotation", "speed", "mode", "bits", "dc", "reset", "max"};
+    bool known = false;
+    for (const char* k : kNumeric) known = known || key == k;
+    if (!known) {
+      *error = "spi display: unknown option '" + key + "' (rotation, device, speed, mode, bits, chip, dc, reset, max)";
+      return false;
+    }
+    char* end = nullptr;
+    errno = 0;
+    const long long n = strtoll(value.c_str(), &end, 0);
+    if (value.empty() || *end != '\0' || errno != 0) {
+      *error = "spi display: " + key + " needs a number, got '" + value + "'";
+      return false;
+    }
+    auto in = [&](long long lo, long long hi) {
+      if (n >= lo && n <= hi) return true;
+      *error = "spi display: " + key + " must be " + std::to_string(lo) + ".." + std::to_string(hi);
+      return false;
+    };
+    if (key == "rotation") {
+      if (!in(0, 270)) return false;
+      c.rotation = int(n);
+    } else if (key == "speed") {
+      if (!in(1, 200000000)) return false;
+      c.speed_hz = uint32_t(n);
+    } else if (key == "mode") {
+      if (!in(0, 3)) return false;
+      c.mode = uint8_t(n);
+    } else if (key == "bits") {
+      if (!in(1, 32)) return false;
+      c.bits_per_word = uint8_t(n);
+    } else if (key == "dc") {
+      if (!in(0, 65535)) return false;
+      c.dc_line = int(n);
+    } else if (key == "reset") {
+      if (!in(-1, 65535)) return false;
+      c.reset_line = int(n);
+    } else {  // max
+      if (!in(0, 1 << 24)) return false;
+      c.max_transfer = size_t(n);
+    }
+  }
+  *out = c;
+  return true;
+}
 
 size_t spidev_bufsiz(const std::string& path) {
   std::ifstream in(path);

@@ -30,6 +30,11 @@ struct SpiPanelConfig {
   std::string bufsiz_path = "/sys/module/spidev/parameters/bufsiz";
 };
 
+// Parses "PANEL[,key=value...]" (the part after "spi:" in a --display option) into `out`, starting
+// from its current values. Keys: rotation, device, speed (Hz), mode, bits, chip, dc, reset (-1: none),
+// max (bytes a transfer). False with a one-line message on an unknown key or a bad number.
+bool parse_spi_panel_spec(const std::string& spec, SpiPanelConfig* out, std::string* error);
+
 // The spidev driver's largest transfer, read from `path`; 4096 when it cannot be read.
 size_t spidev_bufsiz(const std::string& path = "/sys/module/spidev/parameters/bufsiz");
 
