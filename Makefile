@@ -23,12 +23,12 @@ SAN       := -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-
 
 CORE_SRC  := $(shell find src tables -name '*.cpp' 2>/dev/null | sort)
 SCENEC_SRC:= $(shell find tools/scenec -name '*.cpp' 2>/dev/null | sort)
-HOST_SRC  := $(filter-out platform/host/main.cpp,$(shell find platform/host -name '*.cpp' 2>/dev/null | sort))
+HOST_SRC  := $(filter-out platform/host/main.cpp,$(shell find platform/host platform/panels platform/linux -name '*.cpp' 2>/dev/null | sort))
 TEST_SRC  := $(shell find tests -name '*.cpp' -not -path 'tests/fuzz/*' 2>/dev/null | sort)
 MASKGEN_SRC := $(shell find tools/maskgen -name '*.cpp' 2>/dev/null | sort)
 BENCH_SRC := $(shell find tools/bench -name '*.cpp' 2>/dev/null | sort)
 
-HOST_LIBS := -lpng
+HOST_LIBS := -lpng -lgpiod
 
 # ---- object lists: release (build/obj/) and sanitized (build/san/obj/; build/san/ holds the binaries) ----
 rel = $(patsubst %.cpp,$(BUILD)/obj/%.o,$(1))
