@@ -24,7 +24,11 @@ SAN       := -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-
 CORE_SRC  := $(shell find src tables -name '*.cpp' 2>/dev/null | sort)
 SCENEC_SRC:= $(shell find tools/scenec -name '*.cpp' 2>/dev/null | sort)
 HOST_SRC  := $(filter-out platform/host/main.cpp,$(shell find platform/host -name '*.cpp' 2>/dev/null | sort))
-TEST_SRC  := $(shell find tests -name '*.cpp' -not -path 'tests/fuzz/*' 2>/dev/null | sort)
+# Linux-only display sinks (platform/linux: the fbdev sink) join the host code on Linux.
+ifeq ($(shell uname -s),Linux)
+HOST_SRC  += $(shell find platform/linux -name '*.cpp' 2>/dev/null | sort)
+endif
+TEST_SRC  := $(shell find tests -name '*.cpp' -not -path 'tests/fuzz/*' -not -path 'tests/qemu-fbdev/*' 2>/dev/null | sort)
 MASKGEN_SRC := $(shell find tools/maskgen -name '*.cpp' 2>/dev/null | sort)
 BENCH_SRC := $(shell find tools/bench -name '*.cpp' 2>/dev/null | sort)
 
