@@ -102,6 +102,16 @@ $(BUILD)/san/tests: $(TEST_SOBJ) $(HOST_SOBJ) $(SCENEC_SOBJ) $(BUILD)/san/libmas
 	@if [ -d $@ ]; then rm -rf $@; fi  # object folder of older builds (objects now live in san/obj/)
 	$(CXX) $(SAN) -o $@ $^ -lgtest_main -lgtest -lpthread $(HOST_LIBS)
 
+# ---- the QEMU framebuffer test (tests/qemu-fbdev): a static guest program and the host-side check ----
+QEMU_FB_CORE := src/core/arena.cpp src/core/band.cpp src/core/pixel_format.cpp
+$(BUILD)/qemu-fbdev/fb_pattern: tests/qemu-fbdev/fb_pattern.cpp tests/qemu-fbdev/pattern.h platform/linux/fbdev/fbdev_sink.cpp platform/linux/fbdev/fbdev_sink.h $(QEMU_FB_CORE)
+	@mkdir -p $(dir $@)
+	$(CXX) $(HOST_FLAGS) -O2 -static -o $@ tests/qemu-fbdev/fb_pattern.cpp platform/linux/fbdev/fbdev_sink.cpp $(QEMU_FB_CORE)
+$(BUILD)/qemu-fbdev/fb_check: $(BUILD)/obj/tests/qemu-fbdev/fb_check.o $(BUILD)/obj/platform/host/png_io.o $(call rel,$(QEMU_FB_CORE))
+	@mkdir -p $(dir $@)
+	$(CXX) $(OPT) -o $@ $^ $(HOST_LIBS)
+QEMU_FB := $(BUILD)/qemu-fbdev/fb_pattern $(BUILD)/qemu-fbdev/fb_check
+
 # ---- fuzzing: clang libFuzzer over the blob reader ----
 FUZZ_SRC := tests/fuzz/fuzz_blob_reader.cpp $(CORE_SRC)
 $(BUILD)/fuzz_blob_reader: $(FUZZ_SRC) $(shell find src tables -name '*.h')
@@ -113,7 +123,7 @@ fuzz: bootstrap
 	bash tests/fuzz/run.sh $(BUILD) 60
 
 test: bootstrap
-	@$(MAKE) --no-print-directory $(BUILD)/san/tests $(BUILD)/san/maskline $(BUILD)/maskgen $(BUILD)/fuzz_blob_reader
+	@$(MAKE) --no-print-directory $(BUILD)/san/tests $(BUILD)/san/maskline $(BUILD)/maskgen $(BUILD)/fuzz_blob_reader $(QEMU_FB)
 	@bash tests/run_all.sh $(BUILD) $(MASK_K)
 
 tables: $(BUILD)/maskgen

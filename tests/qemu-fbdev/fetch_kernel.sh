@@ -6,8 +6,8 @@
 # Usage: tests/qemu-fbdev/fetch_kernel.sh [CACHE_DIR]
 #   CACHE_DIR defaults to $MASKLINE_QEMU_CACHE, else /var/cache/maskline/qemu-linux when writable,
 #   else build/qemu-linux. Safe to run again: does nothing when the current kernel is unpacked.
-# Result: CACHE_DIR/current -> CACHE_DIR/<version>/ holding vmlinux, modules/*.ko, modules.order
-# (insmod order) and VERSION. Exit status non-zero, with one line on stderr, when it cannot.
+# Result: CACHE_DIR/current -> CACHE_DIR/<version>/ holding vmlinux, modules/*.ko
+# and VERSION. Exit status non-zero, with one line on stderr, when it cannot.
 set -eu
 
 say() { echo "qemu-linux: $*"; }
@@ -29,8 +29,10 @@ cache=$(cd "$cache" && pwd)
 exec 9>"$cache/.lock"
 flock 9
 
-# Modules the bochs DRM driver needs, in insmod order (dependencies first).
-modules=(drm drm_kms_helper ttm drm_ttm_helper drm_vram_helper bochs)
+# DRM drivers with fbdev emulation for QEMU's display adapters and the modules they need:
+# bochs (-vga std, 32 bpp): drm drm_kms_helper ttm drm_ttm_helper drm_vram_helper bochs
+# cirrus (-vga cirrus, 16 or 24 bpp): drm drm_kms_helper drm_shmem_helper cirrus
+modules=(drm drm_kms_helper ttm drm_ttm_helper drm_vram_helper bochs drm_shmem_helper cirrus)
 
 kernel_version() {
   apt-cache depends linux-image-amd64 2>/dev/null | awk '/Depends: linux-image-[0-9]/ { sub(/^linux-image-/, "", $2); print $2; exit }'
@@ -46,7 +48,7 @@ if [ -z "$ver" ]; then
 fi
 if [ -z "$ver" ]; then
   # Offline: keep using a kernel fetched earlier.
-  if [ -f "$cache/current/VERSION" ]; then
+  if complete "$cache/current"; then
     say "apt cannot name the current kernel; using the cached $(cat "$cache/current/VERSION")"
     exit 0
   fi
@@ -54,7 +56,11 @@ if [ -z "$ver" ]; then
 fi
 
 dest="$cache/$ver"
-if [ -f "$dest/VERSION" ] && [ -f "$dest/vmlinux" ]; then
+complete() {
+  [ -f "$1/VERSION" ] && [ -f "$1/vmlinux" ] || return 1
+  for m in "${modules[@]}"; do [ -f "$1/modules/$m.ko" ] || return 1; done
+}
+if complete "$dest"; then
   ln -sfn "$ver" "$cache/current"
   say "kernel $ver already unpacked in $dest"
   exit 0
@@ -98,7 +104,6 @@ extract '\xFD\x37\x7A\x58\x5A\x00' 'xz -dc' ||
   die "cannot find an ELF vmlinux inside $bz"
 
 moddir="$work/x/lib/modules/$ver/kernel"
-: >"$work/out/modules.order"
 for m in "${modules[@]}"; do
   f=$(find "$moddir" -name "$m.ko" -o -name "$m.ko.xz" -o -name "$m.ko.zst" | head -n 1)
   [ -n "$f" ] || die "the package has no module $m"
@@ -107,7 +112,6 @@ for m in "${modules[@]}"; do
     *.zst) zstd -qdc "$f" >"$work/out/modules/$m.ko" ;;
     *) cp "$f" "$work/out/modules/$m.ko" ;;
   esac
-  echo "$m" >>"$work/out/modules.order"
 done
 echo "$ver" >"$work/out/VERSION"
 
