@@ -2,8 +2,9 @@
 // the fbdev sink, band by band as the renderers do (core/band.h), then prints one line
 //   FBTEST READY <width> <height> <bpp> <format> <direct|converted>
 // or FBTEST ERROR <message>. Built static; runs as the guest's /init payload.
-//   fb_pattern [DEVICE]   (default /dev/fb0)
+//   fb_pattern [--pan] [DEVICE]   (default /dev/fb0; --pan: pan to the bottom of the virtual screen first)
 #include <fcntl.h>
+#include <linux/fb.h>
 #include <linux/kd.h>
 #include <stdio.h>
 #include <sys/ioctl.h>
@@ -51,10 +52,43 @@ bool draw(mlfb::FbdevSink& sink, int w, int h, int band_rows, ml::Pixel (*patter
   return s.ok();
 }
 
+// Pans the display to the bottom of the virtual screen (FBIOPAN_DISPLAY), so the sink must honour
+// yoffset for the picture to show.
+bool pan_to_bottom(const std::string& device, std::string* error) {
+  const int fd = open(device.c_str(), O_RDWR);
+  fb_var_screeninfo var{};
+  if (fd < 0 || ioctl(fd, FBIOGET_VSCREENINFO, &var) != 0) {
+    *error = device + ": cannot read the screen info to pan";
+    if (fd >= 0) close(fd);
+    return false;
+  }
+  if (var.yres_virtual < 2 * var.yres) {
+    // Ask for a virtual screen twice the visible height (legacy drivers such as cirrusfb allow it).
+    var.yres_virtual = 2 * var.yres;
+    if (ioctl(fd, FBIOPUT_VSCREENINFO, &var) != 0) ioctl(fd, FBIOGET_VSCREENINFO, &var);
+  }
+  if (var.yres_virtual < 2 * var.yres) {
+    *error = "no room to pan: virtual height " + std::to_string(var.yres_virtual) + " for " + std::to_string(var.yres) + " rows";
+    close(fd);
+    return false;
+  }
+  var.xoffset = 0;
+  var.yoffset = var.yres_virtual - var.yres;
+  const bool ok = ioctl(fd, FBIOPAN_DISPLAY, &var) == 0;
+  if (!ok) *error = device + ": FBIOPAN_DISPLAY failed";
+  close(fd);
+  return ok;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::string device = argc > 1 ? argv[1] : "/dev/fb0";
+  bool pan = false;
+  std::string device = "/dev/fb0";
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--pan") pan = true;
+    else device = argv[i];
+  }
   // Keep the console from drawing over the picture.
   const int tty = open("/dev/tty0", O_RDWR);
   if (tty >= 0) {
@@ -62,6 +96,10 @@ int main(int argc, char** argv) {
     close(tty);
   }
   std::string error;
+  if (pan && !pan_to_bottom(device, &error)) {
+    printf("FBTEST ERROR %s\n", error.c_str());
+    return 1;
+  }
   auto sink = mlfb::open_fbdev(device, &error);
   if (!sink) {
     printf("FBTEST ERROR %s\n", error.c_str());

@@ -32,7 +32,8 @@ flock 9
 # DRM drivers with fbdev emulation for QEMU's display adapters and the modules they need:
 # bochs (-vga std, 32 bpp): drm drm_kms_helper ttm drm_ttm_helper drm_vram_helper bochs
 # cirrus (-vga cirrus, 16 or 24 bpp): drm drm_kms_helper drm_shmem_helper cirrus
-modules=(drm drm_kms_helper ttm drm_ttm_helper drm_vram_helper bochs drm_shmem_helper cirrus)
+# cirrusfb (-vga cirrus, the legacy fbdev driver: virtual screens and hardware panning)
+modules=(drm drm_kms_helper ttm drm_ttm_helper drm_vram_helper bochs drm_shmem_helper cirrus cirrusfb)
 
 kernel_version() {
   apt-cache depends linux-image-amd64 2>/dev/null | awk '/Depends: linux-image-[0-9]/ { sub(/^linux-image-/, "", $2); print $2; exit }'
@@ -77,7 +78,7 @@ chmod 0777 "$work"
 deb=$(ls "$work"/linux-image-*.deb 2>/dev/null | head -n 1)
 [ -n "$deb" ] || die "apt-get download left no .deb"
 
-say "unpacking the kernel image and ${#modules[@]} DRM modules (dpkg-deb, not installed)"
+say "unpacking the kernel image and ${#modules[@]} display driver modules (dpkg-deb, not installed)"
 mkdir -p "$work/x"
 dpkg-deb -x "$deb" "$work/x" || die "dpkg-deb -x $deb failed"
 bz="$work/x/boot/vmlinuz-$ver"

@@ -20,11 +20,17 @@ guest="$build/qemu-fbdev/fb_pattern"
 check="$build/qemu-fbdev/fb_check"
 boot_timeout=${MASKLINE_QEMU_TIMEOUT:-60}
 
-# name | QEMU display adapter | kernel video= | modules in insmod order | bpp expected
+# name | QEMU display adapter | kernel video= | modules in insmod order (module:param=value) |
+# bpp expected | guest program options
+# fb16-cirrusfb-pan: the legacy cirrusfb driver; the guest makes the virtual screen twice the visible
+# height and pans to its bottom half first, so the picture shows only if the sink honours yoffset.
+bochs="drm drm_kms_helper ttm drm_ttm_helper drm_vram_helper bochs"
+cirrus="drm drm_kms_helper drm_shmem_helper cirrus"
 configs=(
-  "fb32-bochs|std|1024x768|drm drm_kms_helper ttm drm_ttm_helper drm_vram_helper bochs|32"
-  "fb16-cirrus|cirrus|1024x768-16|drm drm_kms_helper drm_shmem_helper cirrus|16"
-  "fb24-cirrus|cirrus|800x600-24|drm drm_kms_helper drm_shmem_helper cirrus|24"
+  "fb32-bochs|std|1024x768|$bochs|32|"
+  "fb16-cirrus|cirrus|1024x768-16|$cirrus|16|"
+  "fb24-cirrus|cirrus|800x600-24|$cirrus|24|"
+  "fb16-cirrusfb-pan|cirrus|640x480|cirrusfb:mode_option=640x480-16|16|--pan"
 )
 
 failed=0
@@ -70,12 +76,14 @@ $bb mount -t devtmpfs dev /dev
 $bb mount -t proc proc /proc
 $bb mount -t sysfs sys /sys
 mods=$($bb sed -n 's/.*fbtest\.mods=\([^ ]*\).*/\1/p' /proc/cmdline)
+args=$($bb sed -n 's/.*fbtest\.args=\([^ ]*\).*/\1/p' /proc/cmdline | $bb tr , ' ')
 for m in $(echo "$mods" | $bb tr , ' '); do
-  $bb insmod /lib/fb/$m.ko || echo "FBTEST ERROR insmod $m failed"
+  $bb insmod /lib/fb/${m%%:*}.ko $(case $m in *:*) echo "${m#*:}" | $bb tr : ' ' ;; esac) ||
+    echo "FBTEST ERROR insmod $m failed"
 done
 i=0
 while [ ! -e /dev/fb0 ] && [ $i -lt 50 ]; do $bb usleep 100000; i=$((i + 1)); done
-/bin/fbtest /dev/fb0 || echo "FBTEST ERROR the guest program exited with status $?"
+/bin/fbtest $args /dev/fb0 || echo "FBTEST ERROR the guest program exited with status $?"
 # Process 1 must never exit.
 while true; do $bb sleep 3600; done
 EOF
@@ -87,13 +95,13 @@ chmod +x "$work/root/init"
 # Boots, waits for the guest's READY line, takes a screendump over the monitor (a pipe chardev:
 # DIR/mon.in and DIR/mon.out), quits. Sets `ready` to the READY line or `why` to what went wrong.
 boot() {
-  local dir=$1 vga=$2 video=$3 mods=$4
+  local dir=$1 vga=$2 video=$3 mods=$4 args=$5
   mkdir -p "$dir"
   mkfifo "$dir/mon.in" "$dir/mon.out"
   : >"$dir/serial.log"
   timeout -k 5 "$boot_timeout" qemu-system-x86_64 -accel tcg -m 256 -smp 1 -nodefaults -no-user-config \
     -kernel "$kernel/vmlinux" -initrd "$work/initramfs.cpio.gz" \
-    -append "console=ttyS0 quiet panic=-1 video=$video vt.global_cursor_default=0 fbtest.mods=${mods// /,}" \
+    -append "console=ttyS0 quiet panic=-1 video=$video vt.global_cursor_default=0 fbtest.mods=${mods// /,} fbtest.args=${args// /,}" \
     -vga "$vga" -display none -serial "file:$dir/serial.log" -no-reboot -nic none \
     -chardev "pipe,id=mon,path=$dir/mon" -mon chardev=mon,mode=readline >"$dir/qemu.log" 2>&1 &
   local qemu=$!
@@ -125,9 +133,9 @@ boot() {
 }
 
 for c in "${selected[@]}"; do
-  IFS='|' read -r name vga video mods bpp <<<"$c"
+  IFS='|' read -r name vga video mods bpp args <<<"$c"
   dir="$work/$name"
-  boot "$dir" "$vga" "$video" "$mods"
+  boot "$dir" "$vga" "$video" "$mods" "$args"
   if [ -z "$ready" ]; then
     report_fail "$name" "$why (serial log: $dir/serial.log)"
     continue

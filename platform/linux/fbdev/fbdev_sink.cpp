@@ -71,6 +71,8 @@ std::string FbdevSink::setup(uint8_t* memory, size_t size, const fb_var_screenin
            " bytes of framebuffer memory";
   map_ = memory;
   map_size_ = size;
+  xoffset_ = int(var.xoffset);
+  yoffset_ = int(var.yoffset);
   origin_ = memory ? memory + uint64_t(var.yoffset) * line_length_ + uint64_t(var.xoffset) * uint64_t(bytes_per_pixel_)
                    : nullptr;
 
@@ -94,7 +96,9 @@ std::string FbdevSink::describe() const {
   return name_ + ": " + std::to_string(width_) + "x" + std::to_string(height_) + ", " + std::to_string(bpp_) +
          " bpp " + bitfield('r', red_) + " " + bitfield('g', green_) + " " + bitfield('b', blue_) +
          (transp_.length ? " " + bitfield('a', transp_) : std::string()) + ", line " +
-         std::to_string(line_length_) + " bytes" + (direct_ ? "" : ", converted");
+         std::to_string(line_length_) + " bytes" +
+         (xoffset_ || yoffset_ ? ", panned to " + std::to_string(xoffset_) + "," + std::to_string(yoffset_) : "") +
+         (direct_ ? "" : ", converted");
 }
 
 // The framebuffer word for a colour: each channel scaled to its length and shifted to its offset;

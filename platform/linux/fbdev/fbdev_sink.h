@@ -49,7 +49,9 @@ class FbdevSink : public ml::Sink {
   // Where the current (or next) frame's top-left pixel lands on the visible screen.
   int frame_x() const { return frame_x_; }
   int frame_y() const { return frame_y_; }
-  // One line describing the screen, e.g. "/dev/fb0: 1024x768, 16 bpp r11/5 g5/6 b0/5, line 2048 bytes".
+  // One line describing the screen, e.g. "/dev/fb0: 1024x768, 16 bpp r11/5 g5/6 b0/5, line 2048 bytes"
+  // (with ", panned to X,Y" when the visible screen starts elsewhere and ", converted" when bands
+  // are converted pixel by pixel).
   std::string describe() const;
   // Why the last begin_frame() or flush() returned false ("" when none did).
   const std::string& last_error() const { return error_; }
@@ -83,7 +85,7 @@ class FbdevSink : public ml::Sink {
   uint8_t* map_ = nullptr;  // mapped memory (munmap'ed when fd_ is ours)
   size_t map_size_ = 0;
   uint8_t* origin_ = nullptr;  // first byte of the visible screen (xoffset/yoffset applied)
-  int width_ = 0, height_ = 0, bpp_ = 0, bytes_per_pixel_ = 0;
+  int width_ = 0, height_ = 0, bpp_ = 0, bytes_per_pixel_ = 0, xoffset_ = 0, yoffset_ = 0;
   uint32_t line_length_ = 0;
   fb_bitfield red_{}, green_{}, blue_{}, transp_{};
   ml::PixelFormat format_ = ml::PixelFormat::Xrgb8888;
