@@ -3,6 +3,8 @@
 //   FBTEST READY <width> <height> <bpp> <format> <direct|converted>
 // or FBTEST ERROR <message>. Built static; runs as the guest's /init payload.
 //   fb_pattern [--pan] [DEVICE]   (default /dev/fb0; --pan: pan to the bottom of the virtual screen first)
+//   fb_pattern --info [DEVICE]    draws nothing: waits 300 ms, prints the READY line (after another
+//                                 program drew)
 #include <fcntl.h>
 #include <linux/fb.h>
 #include <linux/kd.h>
@@ -83,10 +85,11 @@ bool pan_to_bottom(const std::string& device, std::string* error) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool pan = false;
+  bool pan = false, info = false;
   std::string device = "/dev/fb0";
   for (int i = 1; i < argc; ++i) {
     if (std::string(argv[i]) == "--pan") pan = true;
+    else if (std::string(argv[i]) == "--info") info = true;
     else device = argv[i];
   }
   // Keep the console from drawing over the picture.
@@ -106,6 +109,13 @@ int main(int argc, char** argv) {
     return 1;
   }
   printf("FBTEST SCREEN %s\n", sink->describe().c_str());
+  if (info) {
+    // Somebody else drew: only wait for the display to catch up and say what the screen is.
+    usleep(300000);
+    printf("FBTEST READY %d %d %d %s %s\n", sink->width(), sink->height(), sink->bits_per_pixel(),
+           format_name(sink->format()), sink->direct_copy() ? "direct" : "converted");
+    return 0;
+  }
   if (!draw(*sink, sink->width(), sink->height(), 16, fbtest::pattern_a, &error) ||
       !draw(*sink, fbtest::kSmallWidth, fbtest::kSmallHeight, 10, fbtest::pattern_b, &error)) {
     printf("FBTEST ERROR %s\n", error.c_str());
