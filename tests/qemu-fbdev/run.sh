@@ -18,10 +18,13 @@ here=$(cd "$(dirname "$0")" && pwd)
 build=$(cd "$build" && pwd)
 guest="$build/qemu-fbdev/fb_pattern"
 check="$build/qemu-fbdev/fb_check"
+cli="$build/qemu-fbdev/maskline"  # static CLI: runs in the guest and renders the host-side reference
 boot_timeout=${MASKLINE_QEMU_TIMEOUT:-60}
 
 # name | QEMU display adapter | kernel video= | modules in insmod order (module:param=value) |
-# bpp expected | guest program options
+# bpp expected | guest program options | CLI render options (when set, the guest runs
+# `maskline show OPTIONS --display fb:/dev/fb0` instead of the pattern, and the check compares with
+# `maskline render OPTIONS -o host.png` on the host)
 # fb16-cirrusfb-pan: the legacy cirrusfb driver; the guest makes the virtual screen twice the visible
 # height and pans to its bottom half first, so the picture shows only if the sink honours yoffset.
 bochs="drm drm_kms_helper ttm drm_ttm_helper drm_vram_helper bochs"
@@ -69,6 +72,7 @@ mkdir -p "$work/root/bin" "$work/root/dev" "$work/root/proc" "$work/root/sys" "$
 cp "$busybox" "$work/root/bin/busybox"
 cp "$kernel"/modules/*.ko "$work/root/lib/fb/"
 cp "$guest" "$work/root/bin/fbtest"
+[ ! -x "$cli" ] || cp "$cli" "$work/root/bin/maskline"
 cat >"$work/root/init" <<'EOF'
 #!/bin/busybox sh
 bb=/bin/busybox
@@ -76,6 +80,7 @@ $bb mount -t devtmpfs dev /dev
 $bb mount -t proc proc /proc
 $bb mount -t sysfs sys /sys
 mods=$($bb sed -n 's/.*fbtest\.mods=\([^ ]*\).*/\1/p' /proc/cmdline)
+cli=$($bb sed -n 's/.*fbtest\.cli=\([^ ]*\).*/\1/p' /proc/cmdline | $bb tr , ' ')
 args=$($bb sed -n 's/.*fbtest\.args=\([^ ]*\).*/\1/p' /proc/cmdline | $bb tr , ' ')
 for m in $(echo "$mods" | $bb tr , ' '); do
   $bb insmod /lib/fb/${m%%:*}.ko $(case $m in *:*) echo "${m#*:}" | $bb tr : ' ' ;; esac) ||
@@ -83,7 +88,16 @@ for m in $(echo "$mods" | $bb tr , ' '); do
 done
 i=0
 while [ ! -e /dev/fb0 ] && [ $i -lt 50 ]; do $bb usleep 100000; i=$((i + 1)); done
-/bin/fbtest $args /dev/fb0 || echo "FBTEST ERROR the guest program exited with status $?"
+if [ -n "$cli" ]; then
+  # The real CLI draws; the guest program then only reports the screen.
+  if /bin/maskline show $cli --display fb:/dev/fb0; then
+    /bin/fbtest --info /dev/fb0
+  else
+    echo "FBTEST ERROR maskline show $cli exited with status $?"
+  fi
+else
+  /bin/fbtest $args /dev/fb0 || echo "FBTEST ERROR the guest program exited with status $?"
+fi
 # Process 1 must never exit.
 while true; do $bb sleep 3600; done
 EOF
@@ -95,13 +109,13 @@ chmod +x "$work/root/init"
 # Boots, waits for the guest's READY line, takes a screendump over the monitor (a pipe chardev:
 # DIR/mon.in and DIR/mon.out), quits. Sets `ready` to the READY line or `why` to what went wrong.
 boot() {
-  local dir=$1 vga=$2 video=$3 mods=$4 args=$5
+  local dir=$1 vga=$2 video=$3 mods=$4 args=$5 cliargs=$6
   mkdir -p "$dir"
   mkfifo "$dir/mon.in" "$dir/mon.out"
   : >"$dir/serial.log"
   timeout -k 5 "$boot_timeout" qemu-system-x86_64 -accel tcg -m 256 -smp 1 -nodefaults -no-user-config \
     -kernel "$kernel/vmlinux" -initrd "$work/initramfs.cpio.gz" \
-    -append "console=ttyS0 quiet panic=-1 video=$video vt.global_cursor_default=0 fbtest.mods=${mods// /,} fbtest.args=${args// /,}" \
+    -append "console=ttyS0 quiet panic=-1 video=$video vt.global_cursor_default=0 fbtest.mods=${mods// /,} fbtest.args=${args// /,}${cliargs:+ fbtest.cli=${cliargs// /,}}" \
     -vga "$vga" -display none -serial "file:$dir/serial.log" -no-reboot -nic none \
     -chardev "pipe,id=mon,path=$dir/mon" -mon chardev=mon,mode=readline >"$dir/qemu.log" 2>&1 &
   local qemu=$!
@@ -133,9 +147,13 @@ boot() {
 }
 
 for c in "${selected[@]}"; do
-  IFS='|' read -r name vga video mods bpp args <<<"$c"
+  IFS='|' read -r name vga video mods bpp args cliargs <<<"$c"
   dir="$work/$name"
-  boot "$dir" "$vga" "$video" "$mods" "$args"
+  if [ -n "$cliargs" ] && [ ! -x "$cli" ]; then
+    report_fail "$name" "not run: $cli is not built (make test builds it)"
+    continue
+  fi
+  boot "$dir" "$vga" "$video" "$mods" "$args" "$cliargs"
   if [ -z "$ready" ]; then
     report_fail "$name" "$why (serial log: $dir/serial.log)"
     continue
@@ -150,7 +168,17 @@ for c in "${selected[@]}"; do
     report_fail "$name" "QEMU wrote no screendump ($dir/monitor.log)"
     continue
   fi
-  if result=$("$check" "$dir/screen.ppm" "$bpp" pattern 2>&1); then
+  expected=(pattern)
+  if [ -n "$cliargs" ]; then
+    # The same static CLI renders the reference frame on the host.
+    # shellcheck disable=SC2086
+    if ! "$cli" render $cliargs -o "$dir/host.png" >"$dir/host.log" 2>&1; then
+      report_fail "$name" "the host render failed: $(tail -n 1 "$dir/host.log")"
+      continue
+    fi
+    expected=(png "$dir/host.png")
+  fi
+  if result=$("$check" "$dir/screen.ppm" "$bpp" "${expected[@]}" 2>&1); then
     echo "ok $name: ${w}x${h} $bpp bpp as $format ($copy), screendump $result, ${boot_seconds} s"
   else
     report_fail "$name" "$result ($dir/screen.ppm)"
