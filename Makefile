@@ -110,6 +110,11 @@ $(BUILD)/qemu-fbdev/fb_pattern: tests/qemu-fbdev/fb_pattern.cpp tests/qemu-fbdev
 $(BUILD)/qemu-fbdev/fb_check: $(BUILD)/obj/tests/qemu-fbdev/fb_check.o $(BUILD)/obj/platform/host/png_io.o $(call rel,$(QEMU_FB_CORE))
 	@mkdir -p $(dir $@)
 	$(CXX) $(OPT) -o $@ $^ $(HOST_LIBS)
+# The CLI linked static (libpng, zlib, libgpiod from the Debian -dev packages' .a files): runs in the
+# guest (`maskline show --display fb:/dev/fb0`) and renders the host-side reference.
+$(BUILD)/qemu-fbdev/maskline: $(BUILD)/obj/platform/host/main.o $(HOST_OBJ) $(SCENEC_OBJ) $(BUILD)/libmaskline.a
+	@mkdir -p $(dir $@)
+	$(CXX) $(OPT) -static -o $@ $^ $(HOST_LIBS) -lz -lm
 QEMU_FB := $(BUILD)/qemu-fbdev/fb_pattern $(BUILD)/qemu-fbdev/fb_check
 
 # ---- fuzzing: clang libFuzzer over the blob reader ----
