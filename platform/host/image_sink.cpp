@@ -1,100 +1,123 @@
 #include "platform/host/image_sink.h"
 
 #include <stddef.h>
+#include <string.h>
+
+#include "core/pixel_format.h"
 
 namespace mlhost {
+
+namespace {
+
+std::string rect(const ml::Flush& b) {
+  return std::to_string(b.width) + "x" + std::to_string(b.height) + " at (" + std::to_string(b.x) + "," +
+         std::to_string(b.y) + ")";
+}
+
+// Whether a stored value is the poison the sink left in a lent buffer (a pixel never written).
+bool is_poison(ml::PixelFormat format, const uint8_t* band, uint32_t stride, int x, int row) {
+  if (format == ml::PixelFormat::Id32)
+    return ml::load_pixel(format, band, stride, x, row) == 0xA5A5A5A5u;
+  if (format == ml::PixelFormat::Xrgb8888) return band[uint32_t(row) * stride + uint32_t(x) * 4 + 3] == kPoisonByte;
+  return false;
+}
+
+}  // namespace
+
+std::string BandContract::begin(const ml::FrameInfo& frame) {
+  if (begun_) return "begin_frame called twice";
+  begun_ = true;
+  frame_ = frame;
+  if (frame.width <= 0 || frame.height <= 0) return "begin_frame with an empty screen";
+  if (frame.band_rows <= 0) return "begin_frame with bands of no rows";
+  if (frame.buffers < 1 || frame.buffers > ml::kMaxBandBuffers) return "begin_frame with a bad buffer count";
+  return "";
+}
+
+std::string BandContract::check(const ml::Flush& b) {
+  if (!begun_) return "flush before begin_frame";
+  if (ended_) return "flush after end_frame";
+  const int rows = frame_.height - next_row_ < frame_.band_rows ? frame_.height - next_row_ : frame_.band_rows;
+  if (next_row_ >= frame_.height) return "band " + rect(b) + " after the last row";
+  if (b.x != 0 || b.width != frame_.width || b.y != next_row_ || b.height != rows)
+    return "band " + rect(b) + " where the next band is " + std::to_string(frame_.width) + "x" +
+           std::to_string(rows) + " at (0," + std::to_string(next_row_) + ")";
+  if (b.bytes == nullptr || b.stride < ml::format_stride(frame_.format, frame_.width))
+    return "band " + rect(b) + " with a short stride or no bytes";
+  next_row_ += rows;
+  return "";
+}
+
+std::string BandContract::end() const {
+  if (!begun_) return "end_frame without begin_frame";
+  if (next_row_ != frame_.height)
+    return std::to_string(frame_.height - next_row_) + " row(s) never flushed";
+  return "";
+}
 
 void ImageSink::fail(const std::string& message) {
   if (error_.empty()) error_ = message;
 }
 
-bool ImageSink::begin_frame(int width, int height) {
+bool ImageSink::begin_frame(const ml::FrameInfo& frame) {
   ++begins_;
-  if (begins_ > 1) {
-    fail("begin_frame called twice");
-    return !strict_;
+  const std::string e = contract_.begin(frame);
+  if (!e.empty()) {
+    fail(e);
+    return begins_ == 1 && frame.width > 0 && frame.height > 0 ? !strict_ : false;
   }
-  if (width <= 0 || height <= 0) {
-    fail("begin_frame with an empty screen");
-    return false;
-  }
-  width_ = width;
-  height_ = height;
-  const size_t n = size_t(width) * size_t(height);
+  frame_ = frame;
+  const size_t n = size_t(frame.width) * size_t(frame.height);
   pixels_.assign(n, 0);
+  stored_.assign(n, 0);
   writes_.assign(n, 0);
   unwritten_ = n;
   return true;
 }
 
-bool ImageSink::record(int x, int y, int w, int h) {
-  ++calls_;
-  if (begins_ != 1 || ended_) {
-    fail(begins_ == 0 ? "write before begin_frame" : "write after end_frame");
+bool ImageSink::flush(const ml::Flush& b) {
+  ++flushes_;
+  const std::string e = contract_.check(b);
+  if (!e.empty()) {
+    fail(e);
+    flush_ready(b.buffer);
     return false;
   }
-  if (w <= 0 || h <= 0 || x < 0 || y < 0 || x > width_ - w || y > height_ - h) {
-    fail("block " + std::to_string(w) + "x" + std::to_string(h) + " at (" + std::to_string(x) + "," +
-         std::to_string(y) + ") outside the " + std::to_string(width_) + "x" + std::to_string(height_) +
-         " screen");
-    return false;
-  }
-  if (rows_in_order_) {
-    if (x == 0 && w == width_ && h == 1 && y == next_row_) {
-      ++next_row_;
-    } else {
-      rows_in_order_ = false;
-    }
-  }
-  bool ok = true;
-  for (int j = y; j < y + h; ++j) {
-    for (int i = x; i < x + w; ++i) {
-      uint8_t& c = writes_[size_t(j) * size_t(width_) + size_t(i)];
-      if (c == 0) {
-        --unwritten_;
-      } else {
-        if (c == 1) ++overwritten_;
-        fail("pixel (" + std::to_string(i) + "," + std::to_string(j) + ") written twice");
-        ok = false;
+  for (int r = 0; r < b.height; ++r)
+    for (int x = 0; x < b.width; ++x) {
+      const size_t at = size_t(b.y + r) * size_t(frame_.width) + size_t(x);
+      if (is_poison(frame_.format, b.bytes, b.stride, x, r)) {
+        fail("pixel (" + std::to_string(x) + "," + std::to_string(b.y + r) + ") never written");
+        continue;
       }
-      if (c < 255) ++c;
+      stored_[at] = ml::load_pixel(frame_.format, b.bytes, b.stride, x, r);
+      pixels_[at] = ml::expand_stored(frame_.format, stored_[at]);
+      if (writes_[at]++ == 0) --unwritten_;
     }
-  }
-  pixel_writes_ += uint64_t(w) * uint64_t(h);
-  return ok || !strict_;
-}
-
-bool ImageSink::write_block(int x, int y, int w, int h, const ml::Pixel* pixels, int stride) {
-  if (!record(x, y, w, h)) return false;
-  if (w <= 0 || h <= 0 || x < 0 || y < 0 || x > width_ - w || y > height_ - h) return true;
-  for (int j = 0; j < h; ++j) {
-    for (int i = 0; i < w; ++i) {
-      pixels_[size_t(y + j) * size_t(width_) + size_t(x + i)] = pixels[size_t(j) * size_t(stride) + size_t(i)];
-    }
-  }
-  return true;
-}
-
-bool ImageSink::fill_block(int x, int y, int w, int h, ml::Pixel value) {
-  if (!record(x, y, w, h)) return false;
-  if (w <= 0 || h <= 0 || x < 0 || y < 0 || x > width_ - w || y > height_ - h) return true;
-  for (int j = 0; j < h; ++j) {
-    for (int i = 0; i < w; ++i) pixels_[size_t(y + j) * size_t(width_) + size_t(x + i)] = value;
-  }
-  return true;
+  pixel_writes_ += uint64_t(b.width) * uint64_t(b.height);
+  counters.bytes += uint64_t(ml::format_band_bytes(frame_.format, b.width, b.height));
+  ++counters.windows;
+  // The bytes are ours until flush_ready: poison them so a pixel skipped next time shows.
+  const int unit = ml::format_row_unit(frame_.format);
+  memset(const_cast<uint8_t*>(b.bytes), kPoisonByte, size_t(b.stride) * size_t((b.height + unit - 1) / unit));
+  flush_ready(b.buffer);
+  return error_.empty() || !strict_;
 }
 
 bool ImageSink::end_frame() {
-  if (begins_ != 1 || ended_) {
-    fail(ended_ ? "end_frame called twice" : "end_frame without begin_frame");
+  if (ended_) {
+    fail("end_frame called twice");
     return !strict_;
   }
   ended_ = true;
-  if (unwritten_ != 0) {
-    fail(std::to_string(unwritten_) + " pixel(s) never written");
+  const std::string e = contract_.end();
+  if (!e.empty()) {
+    fail(e);
     return !strict_;
   }
-  return true;
+  for (int i = 0; i < ml::kMaxBandBuffers; ++i)
+    if (lent(i)) fail("end_frame with a buffer still lent");
+  return error_.empty() || !strict_;
 }
 
 std::string ImageSink::contract_error() const {
@@ -102,7 +125,6 @@ std::string ImageSink::contract_error() const {
   if (begins_ == 0) return "frame never begun";
   if (!ended_) return "end_frame never called";
   if (unwritten_ != 0) return std::to_string(unwritten_) + " pixel(s) never written";
-  if (overwritten_ != 0) return std::to_string(overwritten_) + " pixel(s) written more than once";
   return "";
 }
 

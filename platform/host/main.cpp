@@ -13,8 +13,12 @@
 
 #include "core/arena.h"
 #include "core/fixed.h"
+#include "core/band.h"
+#include "core/pixel_format.h"
+#include "platform/host/format_names.h"
 #include "platform/host/image_sink.h"
 #include "platform/host/png_io.h"
+#include "platform/host/png_stream_sink.h"
 #include "platform/host/scene_load.h"
 #include "platform/host/stats_json.h"
 #include "render/render.h"
@@ -79,7 +83,16 @@ const char* const kRenderHelp =
     "  --work OUT.png              Greene's work image: pyramid cells visited per pixel, log-scale\n"
     "                              heatmap (tiler only)\n"
     "  --stats                     print one JSON object of frame statistics on stdout\n"
-    "  --arena BYTES               use an arena of this size instead of the exact need\n";
+    "  --arena BYTES               use an arena of this size instead of the exact need\n"
+    "\n"
+    "output (how pixels leave the renderer; the PNG shows what such a display would show):\n"
+    "  --format F                  xrgb8888 (default), rgb565 (panel byte order), rgb565le, grey8,\n"
+    "                              grey4, mono1\n"
+    "  --dither on|off             4x4 ordered dither (default: on for grey and mono, off otherwise)\n"
+    "  --band-rows N               rows per band buffer, 0 = the whole frame (default 16)\n"
+    "  --buffers 1|2               band buffers (2 lets a display send one band while the next renders)\n"
+    "\n"
+    "Bands stream into the PNG as they leave the renderer: no frame buffer is held.\n";
 
 // ---- argument parsing ---------------------------------------------------------------------------
 
@@ -331,120 +344,168 @@ int cmd_info(int argc, char** argv) {
   return 0;
 }
 
+// ---- render options shared by render and show ---------------------------------------------------
+
+const std::vector<std::string> kRenderValued = {"--renderer", "--size", "--aa", "--eye", "--target", "--up",
+                                                "--fov", "--near", "--shading", "--seed", "--background",
+                                                "--arena", "--format", "--dither", "--band-rows", "--buffers"};
+
+struct RenderArgs {
+  ml::RenderOptions opt;
+  int width = 320, height = 240;
+  bool has_size = false, has_format = false, has_dither = false;
+  CameraArgs camera;
+  long long arena_override = -1;
+};
+
+// Applies one option of kRenderValued; false when the name is not one of them.
+bool parse_render_option(const std::string& n, const std::string& v, RenderArgs* r) {
+  ml::RenderOptions& opt = r->opt;
+  CameraArgs& cam = r->camera;
+  if (n == "--renderer") opt.renderer = parse_renderer(v);
+  else if (n == "--size") { parse_size(v, &r->width, &r->height); r->has_size = true; }
+  else if (n == "--aa") opt.aa = int(parse_integer(n, v, 1, 8));
+  else if (n == "--eye") { parse_vec3(n, v, cam.eye); cam.has_eye = true; }
+  else if (n == "--target") { parse_vec3(n, v, cam.target); cam.has_target = true; }
+  else if (n == "--up") { parse_vec3(n, v, cam.up); cam.has_up = true; }
+  else if (n == "--fov") {
+    cam.fov = parse_number(n, v);
+    if (cam.fov < 1 || cam.fov > 170) usage_error("--fov: expected 1..170 degrees, got '" + v + "'");
+  } else if (n == "--near") { cam.near = parse_number(n, v); cam.has_near = true; }
+  else if (n == "--shading") {
+    if (v == "unlit") opt.shading = ml::ShadingMode::Unlit;
+    else if (v == "flat") opt.shading = ml::ShadingMode::Flat;
+    else if (v == "gouraud") opt.shading = ml::ShadingMode::Gouraud;
+    else if (v == "lines") opt.shading = ml::ShadingMode::Lines;
+    else usage_error("--shading: expected unlit, flat, gouraud or lines, got '" + v + "'");
+  } else if (n == "--seed") opt.seed = uint32_t(parse_integer(n, v, 0, 0xFFFFFFFFll));
+  else if (n == "--background") {
+    if (v.size() != 6 || v.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos)
+      usage_error("--background: expected RRGGBB in hex, got '" + v + "'");
+    opt.background = ml::Pixel(strtoul(v.c_str(), nullptr, 16));
+  } else if (n == "--arena") r->arena_override = parse_integer(n, v, 0, 1ll << 40);
+  else if (n == "--format") {
+    if (!mlhost::parse_format(v, &opt.output.format))
+      usage_error("--format: expected xrgb8888, rgb565, rgb565le, grey8, grey4 or mono1, got '" + v + "'");
+    r->has_format = true;
+  } else if (n == "--dither") {
+    if (v != "on" && v != "off") usage_error("--dither: expected on or off, got '" + v + "'");
+    opt.output.dither = v == "on";
+    r->has_dither = true;
+  } else if (n == "--band-rows") opt.output.band_rows = int(parse_integer(n, v, 0, ml::kMaxScreenDim));
+  else if (n == "--buffers") opt.output.buffers = int(parse_integer(n, v, 1, ml::kMaxBandBuffers));
+  else return false;
+  return true;
+}
+
+// Checks that need all options; fills in defaults that depend on others.
+void finish_render_args(RenderArgs* r) {
+  const bool tiler = r->opt.renderer == ml::RendererKind::Tiler;
+  if (r->opt.shading == ml::ShadingMode::Lines && tiler) usage_error("--shading lines: needs --renderer scanline");
+  if (tiler && r->opt.aa != 1) usage_error("--aa: the tiler samples once per pixel (use --aa 1 or --renderer scanline)");
+  if (!r->has_dither) r->opt.output.dither = ml::format_dithers_by_default(r->opt.output.format);
+}
+
+// One render into `sink` with an arena of the exact need (or --arena); failures exit with one line.
+// A sink's own message (sink_error, read after the render) explains a SinkFailed better than the status.
+ml::Stats render_into(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o,
+                      long long arena_override, ml::Sink& sink, const std::string* sink_error = nullptr) {
+  const size_t need = ml::render_arena_bytes(scene, camera, o);
+  const size_t bytes = arena_override >= 0 ? size_t(arena_override) : need;
+  if (bytes > need + (size_t(1) << 30)) failure("--arena: " + std::to_string(bytes) + " bytes is more than this host gives a frame (the need is " + std::to_string(need) + ")");
+  std::vector<uint64_t> storage((bytes + 7) / 8, 0);
+  ml::Arena arena(storage.data(), bytes);
+  ml::Stats stats;
+  const ml::Status s = ml::render(scene, camera, o, arena, sink, &stats);
+  if (s.code == ml::StatusCode::ArenaTooSmall)
+    failure("render failed: arena too small: " + std::to_string(s.value) + " bytes needed, " + std::to_string(bytes) + " given");
+  if (s.code == ml::StatusCode::SinkFailed && sink_error && !sink_error->empty()) failure(*sink_error);
+  if (!s.ok()) failure(std::string("render failed: ") + status_text(s));
+  return stats;
+}
+
+mlhost::RunInfo run_info_for(const ml::Scene& scene, const mlhost::LoadedScene& loaded, const RenderArgs& r,
+                             const char* shading, const std::string& display) {
+  mlhost::RunInfo info;
+  info.width = r.width;
+  info.height = r.height;
+  info.renderer = renderer_name(r.opt.renderer);
+  info.aa = r.opt.aa;
+  info.shading = shading;
+  info.scene = loaded.name;
+  info.bsp_split_ratio = scene.triangle_count ? double(scene.bsp_piece_count) / scene.triangle_count : 0.0;
+  info.band_rows = ml::band_rows_for(r.opt.output, r.height);
+  info.format = mlhost::format_name(std::string(shading) == "ids" ? ml::PixelFormat::Id32 : r.opt.output.format);
+  info.display = display;
+  return info;
+}
+
 int cmd_render(int argc, char** argv) {
-  const Args a = parse_args(argc, argv, 2,
-                            {"--renderer", "--size", "--aa", "--eye", "--target", "--up", "--fov", "--near", "--shading",
-                             "-o", "--ids", "--work", "--seed", "--background", "--arena"},
-                            {"--stats"}, "render");
+  std::vector<std::string> valued = kRenderValued;
+  for (const char* v : {"-o", "--ids", "--work"}) valued.push_back(v);
+  const Args a = parse_args(argc, argv, 2, valued, {"--stats"}, "render");
   if (a.help) {
     fputs(kRenderHelp, stdout);
     return 0;
   }
   if (a.positional.size() > 1) usage_error("render: expected at most one scene, got '" + a.positional[1] + "'");
-  ml::RenderOptions opt;
-  int width = 320, height = 240;
-  CameraArgs cam_args;
-  long long arena_override = -1;
+  RenderArgs r;
   for (const auto& o : a.options) {
-    const std::string& n = o.first;
-    const std::string& v = o.second;
-    if (n == "--renderer") opt.renderer = parse_renderer(v);
-    else if (n == "--size") parse_size(v, &width, &height);
-    else if (n == "--aa") opt.aa = int(parse_integer(n, v, 1, 8));
-    else if (n == "--eye") { parse_vec3(n, v, cam_args.eye); cam_args.has_eye = true; }
-    else if (n == "--target") { parse_vec3(n, v, cam_args.target); cam_args.has_target = true; }
-    else if (n == "--up") { parse_vec3(n, v, cam_args.up); cam_args.has_up = true; }
-    else if (n == "--fov") {
-      cam_args.fov = parse_number(n, v);
-      if (cam_args.fov < 1 || cam_args.fov > 170) usage_error("--fov: expected 1..170 degrees, got '" + v + "'");
-    } else if (n == "--near") { cam_args.near = parse_number(n, v); cam_args.has_near = true; }
-    else if (n == "--shading") {
-      if (v == "unlit") opt.shading = ml::ShadingMode::Unlit;
-      else if (v == "flat") opt.shading = ml::ShadingMode::Flat;
-      else if (v == "gouraud") opt.shading = ml::ShadingMode::Gouraud;
-      else if (v == "lines") opt.shading = ml::ShadingMode::Lines;
-      else usage_error("--shading: expected unlit, flat, gouraud or lines, got '" + v + "'");
-    } else if (n == "--seed") opt.seed = uint32_t(parse_integer(n, v, 0, 0xFFFFFFFFll));
-    else if (n == "--background") {
-      if (v.size() != 6 || v.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos)
-        usage_error("--background: expected RRGGBB in hex, got '" + v + "'");
-      opt.background = ml::Pixel(strtoul(v.c_str(), nullptr, 16));
-    } else if (n == "--arena") arena_override = parse_integer(n, v, 0, 1ll << 40);
-    else if ((n == "-o" || n == "--ids" || n == "--work") && v.empty()) usage_error(n + ": needs a file name");
+    if (parse_render_option(o.first, o.second, &r)) continue;
+    if ((o.first == "-o" || o.first == "--ids" || o.first == "--work") && o.second.empty())
+      usage_error(o.first + ": needs a file name");
   }
+  finish_render_args(&r);
   const std::string* out_png = find_option(a, "-o");
   const std::string* ids_png = find_option(a, "--ids");
   const std::string* work_png = find_option(a, "--work");
   const bool want_stats = has_flag(a, "--stats");
-  const bool tiler = opt.renderer == ml::RendererKind::Tiler;
-  if (opt.shading == ml::ShadingMode::Lines && tiler) usage_error("--shading lines: needs --renderer scanline");
-  if (tiler && opt.aa != 1) usage_error("--aa: the tiler samples once per pixel (use --aa 1 or --renderer scanline)");
-  if (work_png && !tiler) usage_error("--work: the work image comes from the tiler (--renderer tiler)");
+  if (work_png && r.opt.renderer != ml::RendererKind::Tiler)
+    usage_error("--work: the work image comes from the tiler (--renderer tiler)");
 
   mlhost::LoadedScene loaded;
   const ml::Scene scene = require_scene(a.positional.empty() ? "" : a.positional[0], &loaded);
-  const ml::Camera camera = make_camera(scene, cam_args, width, height);
-
-  std::vector<uint64_t> arena_storage;
-  // Renders once into an in-memory image that checks the once-per-pixel contract.
-  auto run = [&](const ml::RenderOptions& o, mlhost::ImageSink* sink, ml::Stats* stats) {
-    const size_t need = ml::render_arena_bytes(scene, camera, o);
-    const size_t bytes = arena_override >= 0 ? size_t(arena_override) : need;
-    arena_storage.assign((bytes + 7) / 8, 0);
-    ml::Arena arena(arena_storage.data(), bytes);
-    const ml::Status s = ml::render(scene, camera, o, arena, *sink, stats);
-    if (s.code == ml::StatusCode::ArenaTooSmall)
-      failure("render failed: arena too small: " + std::to_string(s.value) + " bytes needed, " + std::to_string(bytes) + " given");
-    if (!s.ok()) failure(std::string("render failed: ") + status_text(s));
-    if (!sink->contract_ok()) failure("render failed: the renderer broke the sink contract: " + sink->contract_error());
-  };
+  const ml::Camera camera = make_camera(scene, r.camera, r.width, r.height);
 
   ml::Stats stats;
   const bool colour_pass = out_png || work_png || want_stats || !ids_png;
   if (colour_pass) {
     std::vector<uint32_t> work;
     ml::WorkImage work_image;
+    ml::RenderOptions o = r.opt;
     if (work_png) {
-      work.assign(size_t(width) * size_t(height), 0);
+      work.assign(size_t(r.width) * size_t(r.height), 0);
       work_image.q16 = work.data();
-      work_image.width = width;
-      work_image.height = height;
-      opt.work = &work_image;
+      work_image.width = r.width;
+      work_image.height = r.height;
+      o.work = &work_image;
     }
-    mlhost::ImageSink sink;
-    run(opt, &sink, &stats);
-    opt.work = nullptr;
     if (out_png) {
-      const std::string e = mlhost::write_png_rgb(*out_png, sink.width(), sink.height(), sink.pixels());
-      if (!e.empty()) failure(e);
+      // Bands stream into the PNG file as they leave the renderer: no frame buffer.
+      mlhost::PngStreamSink sink(*out_png);
+      stats = render_into(scene, camera, o, r.arena_override, sink, &sink.error());
+    } else {
+      mlhost::ImageSink sink;
+      stats = render_into(scene, camera, o, r.arena_override, sink);
+      if (!sink.contract_ok()) failure("render failed: the renderer broke the sink contract: " + sink.contract_error());
     }
     if (work_png) {
-      const std::string e = mlhost::write_png_rgb(*work_png, width, height, mlhost::work_heatmap(work));
+      const std::string e = mlhost::write_png_rgb(*work_png, r.width, r.height, mlhost::work_heatmap(work));
       if (!e.empty()) failure(e);
     }
   }
   if (ids_png) {
-    ml::RenderOptions ido = opt;
+    ml::RenderOptions ido = r.opt;
     ido.shading = ml::ShadingMode::Ids;
     ido.aa = 1;  // ids are point-sampled at pixel centres
     ido.background = 0;
-    mlhost::ImageSink sink;
-    ml::Stats id_stats;
-    run(ido, &sink, &id_stats);
+    mlhost::PngStreamSink sink(*ids_png);
+    const ml::Stats id_stats = render_into(scene, camera, ido, r.arena_override, sink, &sink.error());
     if (!colour_pass) stats = id_stats;
-    const std::string e = mlhost::write_png_rgba_le(*ids_png, sink.width(), sink.height(), sink.pixels());
-    if (!e.empty()) failure(e);
   }
   if (want_stats) {
-    mlhost::RunInfo run_info;
-    run_info.width = width;
-    run_info.height = height;
-    run_info.renderer = renderer_name(opt.renderer);
-    run_info.aa = opt.aa;
-    run_info.shading = colour_pass ? shading_name(opt.shading) : "ids";
-    run_info.scene = loaded.name;
-    run_info.bsp_split_ratio = scene.triangle_count ? double(scene.bsp_piece_count) / scene.triangle_count : 0.0;
-    printf("%s\n", mlhost::stats_json(stats, run_info).c_str());
+    const char* shading = colour_pass ? shading_name(r.opt.shading) : "ids";
+    printf("%s\n", mlhost::stats_json(stats, run_info_for(scene, loaded, r, shading, out_png ? "png" : "memory")).c_str());
   }
   return 0;
 }

@@ -40,7 +40,11 @@ std::string stats_json(const ml::Stats& s, const RunInfo& run) {
     << ",\"width\":" << s.width << ",\"height\":" << s.height << ",\"samples_per_pixel\":" << s.samples_per_pixel
     << ",\"triangles_in\":" << s.triangles_in << ",\"triangles_culled\":" << s.triangles_culled
     << ",\"triangles_drawn\":" << s.triangles_drawn << ",\"pixel_writes\":" << s.pixel_writes
-    << ",\"sink_calls\":" << s.sink_calls << ",\"shading_calls\":" << s.shading_calls
+    << ",\"sink_calls\":" << s.sink_calls << ",\"bands\":" << s.bands << ",\"band_rows\":" << run.band_rows
+    << ",\"format\":" << quoted(run.format) << ",\"display\":" << quoted(run.display)
+    << ",\"display_bytes\":" << s.display_bytes << ",\"display_windows\":" << s.display_windows
+    << ",\"display_bytes_per_pixel\":" << number(pixels > 0 ? double(s.display_bytes) / pixels : 0.0)
+    << ",\"shading_calls\":" << s.shading_calls
     << ",\"peak_arena_bytes\":" << s.peak_arena_bytes << ",\"cells_visited\":" << s.cells_visited
     << ",\"cells_visited_per_pixel\":" << number(pixels > 0 ? double(s.cells_visited) / pixels : 0.0)
     << ",\"triangles_tiled\":" << s.triangles_tiled << ",\"bsp_nodes\":" << s.bsp_nodes

@@ -14,6 +14,9 @@ struct RunInfo {
   std::string shading;    // "unlit" | "flat" | "gouraud" | "lines" | "ids"
   std::string scene;      // file name, or "default"
   double bsp_split_ratio = 0;  // BSP pieces per scene triangle (1.0 = no splits)
+  int band_rows = 0;           // rows per band the frame left in
+  std::string format;          // the pixel format the renderer packed ("xrgb8888", "rgb565be", ...)
+  std::string display;         // where the frame went ("png", "emu:ili9341", "fb:/dev/fb0", ...)
 };
 
 std::string stats_json(const ml::Stats& stats, const RunInfo& run);

@@ -72,16 +72,20 @@ inline int32_t abs32(int32_t v) { return v < 0 ? -v : v; }
 // type (common type); mixing signed and unsigned is a compile error rather than a silent conversion.
 template <typename A, typename B>
 using CommonInt = typename CommonIntOf<A, B>::type;
-template <typename T> inline T min_of(T a, T b) { return a < b ? a : b; }
-template <typename T> inline T max_of(T a, T b) { return a > b ? a : b; }
-template <typename T> inline T clamp_to(T v, T lo, T hi) { return v < lo ? lo : (v > hi ? hi : v); }
 template <typename A, typename B>
-inline CommonInt<A, B> min_of(A a, B b) { return min_of<CommonInt<A, B>>(a, b); }
+inline CommonInt<A, B> min_of(A a, B b) {
+  using T = CommonInt<A, B>;
+  return T(a) < T(b) ? T(a) : T(b);
+}
 template <typename A, typename B>
-inline CommonInt<A, B> max_of(A a, B b) { return max_of<CommonInt<A, B>>(a, b); }
+inline CommonInt<A, B> max_of(A a, B b) {
+  using T = CommonInt<A, B>;
+  return T(a) > T(b) ? T(a) : T(b);
+}
 template <typename A, typename B, typename C>
 inline CommonInt<CommonInt<A, B>, C> clamp_to(A v, B lo, C hi) {
-  return clamp_to<CommonInt<CommonInt<A, B>, C>>(v, lo, hi);
+  using T = CommonInt<CommonInt<A, B>, C>;
+  return T(v) < T(lo) ? T(lo) : (T(v) > T(hi) ? T(hi) : T(v));
 }
 
 // Arithmetic shift right that rounds to nearest (ties away from zero). s in [1, 62].

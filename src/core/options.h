@@ -28,7 +28,7 @@ struct WorkImage {
 // How pixels leave the renderer (core/sink.h): the display's format, ordered dithering where the
 // format loses precision, and the band buffers lent from the arena.
 struct OutputOptions {
-  PixelFormat format = PixelFormat::Xrgb8888;  // Id32 exactly when shading is Ids
+  PixelFormat format = PixelFormat::Xrgb8888;  // ids shading always outputs Id32
   bool dither = false;                         // 4x4 ordered dither (RGB565, grey, mono)
   int band_rows = 16;                          // rows a band buffer holds; 0 = the whole frame
   int buffers = 1;                             // 1, or 2 so sending one band overlaps the next

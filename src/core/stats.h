@@ -9,8 +9,9 @@ struct Stats {
   // common
   uint32_t width = 0, height = 0;
   uint32_t samples_per_pixel = 1;      // aa * aa
-  // The tiler draws BSP pieces (a split triangle is several), so for it culled and drawn count pieces
-  // and add up to bsp_pieces; the scanline renderer counts triangles.
+  // The tiler draws BSP pieces (a split triangle is several) band by band, so for it culled and drawn
+  // count (piece, band) pairs and add up to bsp_pieces * bands (with one band: pieces); the scanline
+  // renderer counts triangles.
   uint32_t triangles_in = 0;           // triangles in the scene
   uint32_t triangles_culled = 0;       // back-facing, behind the eye, off screen, degenerate, or hidden
   uint32_t triangles_drawn = 0;        // triangles (pieces) that wrote at least one pixel
@@ -24,7 +25,7 @@ struct Stats {
 
   // tiler
   uint64_t cells_visited = 0;          // pyramid cells (masks) visited by tile_poly
-  uint32_t triangles_tiled = 0;        // pieces handed to tile_poly (after clipping)
+  uint32_t triangles_tiled = 0;        // tile_poly calls (a clipped part of a piece, once per band)
   uint32_t bsp_nodes = 0;
   uint32_t bsp_pieces = 0;             // pieces stored in the BSP (>= triangles when some were split)
   uint32_t pyramid_bytes = 0;

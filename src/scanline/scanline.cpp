@@ -2,6 +2,7 @@
 // described in docs/scanline.md; this file follows the paper's sections in order.
 #include "scanline/scanline.h"
 
+#include "core/band.h"
 #include "scanline/internal.h"
 #include "scanline/sort.h"
 #include "scanline/wide.h"
@@ -147,6 +148,7 @@ struct Setup {
   int width = 0, height = 0;
   bool colour = true;  // not Ids / Lines
   bool accumulate = false;  // l > 1 colour: per-pixel sums
+  size_t band_bytes = 0;    // band buffers (core/band.h)
 };
 
 Status make_setup(const Scene& scene, const Camera& camera, const RenderOptions& options, Setup* s) {
@@ -154,6 +156,9 @@ Status make_setup(const Scene& scene, const Camera& camera, const RenderOptions&
   if (scene.triangle_count >= kMaxTriangles) return error(StatusCode::Unsupported, "too many triangles");
   Status st = make_view(camera, &s->view);
   if (!st.ok()) return st;
+  st = BandOutput::check(options.output);
+  if (!st.ok()) return st;
+  s->band_bytes = BandOutput::arena_bytes(options.output, camera.width, camera.height);
   s->width = camera.width;
   s->height = camera.height;
   s->colour = options.shading != ShadingMode::Ids && options.shading != ShadingMode::Lines;
@@ -211,9 +216,9 @@ uint32_t for_each_piece(const Scene& scene, const Setup& s, F f) {
 inline size_t round8(size_t v) { return (v + 7) & ~size_t(7); }
 
 struct Sizes {
-  size_t ysort, drawn, temp, yactive, ord, xactive, keep, acc;
+  size_t ysort, drawn, temp, yactive, ord, xactive, keep, acc, band;
   size_t phase1() const { return 7 + ysort + drawn + temp; }
-  size_t phase2() const { return 7 + ysort + drawn + yactive + ord + xactive + keep + acc; }
+  size_t phase2() const { return 7 + ysort + drawn + yactive + ord + xactive + keep + acc + band; }
   size_t need() const { return max_of(phase1(), phase2()); }
 };
 
@@ -227,6 +232,7 @@ Sizes sizes_for(const Scene& scene, const Setup& s, uint32_t n, uint32_t m) {
   z.xactive = round8(size_t(m) * 4);
   z.keep = 2 * round8(size_t(s.width) * 4);
   z.acc = s.accumulate ? round8(size_t(s.width) * 8) : 0;
+  z.band = s.band_bytes;
   return z;
 }
 
@@ -279,6 +285,8 @@ struct Renderer {
   Light light;
   Stats* stats;
   Sink* sink;
+  Arena* arena;
+  BandOutput out;
   Rng rng{1};
   uint32_t p_threshold = 0;  // shade stochastically when rng < threshold: P = 1 / (l + 1)
 
@@ -299,8 +307,6 @@ struct Renderer {
   int32_t cur_px = 0;
   uint64_t cur_sum = 0;
   int32_t row_kind = 0;  // 0 interior, 1 top of frame, 2 shared border, 3 bottom of frame
-
-  Status fail_sink() { return error(StatusCode::SinkFailed, "sink refused a write"); }
 
   // --- activation (§3.1, §4.1) ---
   void activate(const YSortEntry& e, int32_t y) {
@@ -609,7 +615,8 @@ struct Renderer {
     const Lattice& lat = s.lat;
     Pixel* out_row = s.colour || opt->shading == ShadingMode::Ids ? keep_surface : keep_rgb;
     for (int32_t x = 0; x < s.width; ++x) { keep_surface[x] = 0; keep_rgb[x] = 0; }
-    if (!sink->begin_frame(s.width, s.height)) return fail_sink();
+    Status st = out.begin(opt->output, s.width, s.height, *arena, *sink);
+    if (!st.ok()) return st;
     for (int32_t y = 0; y < lat.ny; ++y) {
       // Compaction (§3.1): finished pieces leave the order; their slots go to the free stack.
       uint32_t w = 0;
@@ -645,16 +652,29 @@ struct Renderer {
       }
       const int32_t py = finished_row(y);
       if (py >= 0) {
-        if (!sink->write_block(0, py, s.width, 1, out_row, s.width)) return fail_sink();
-        ++stats->sink_calls;
-        stats->pixel_writes += uint32_t(s.width);
+        st = emit_row(py, out_row);
+        if (!st.ok()) return st;
         if (s.colour) {
           for (int32_t x = 0; x < s.width; ++x) { keep_surface[x] = 0; keep_rgb[x] &= ~kForce; }
         }
       }
     }
-    if (!sink->end_frame()) return fail_sink();
-    return ok_status();
+    return out.end();
+  }
+
+  // Packs a finished pixel row into its band; the band leaves when its last row is in.
+  Status emit_row(int32_t py, const Pixel* row) {
+    const int band = py / out.band_rows();
+    if (py == out.band_top(band)) {
+      const Status st = out.start_band(band);
+      if (!st.ok()) return st;
+    }
+    out.put_row(0, py, row, s.width);
+    stats->pixel_writes += uint32_t(s.width);
+    if (py + 1 < out.band_top(band) + out.band_height(band)) return ok_status();
+    ++stats->sink_calls;
+    ++stats->bands;
+    return out.finish_band();
   }
 };
 
@@ -678,6 +698,7 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
   r.opt = &options;
   r.stats = stats;
   r.sink = &sink;
+  r.arena = &arena;
   Status st = make_setup(scene, camera, options, &r.s);
   if (!st.ok()) return st;
   const Setup& s = r.s;
@@ -736,10 +757,10 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
   r.keep_surface = static_cast<uint32_t*>(arena.allocate(z.keep / 2, 8));
   r.keep_rgb = static_cast<uint32_t*>(arena.allocate(z.keep / 2, 8));
   if (z.acc) r.acc = static_cast<uint64_t*>(arena.allocate(z.acc, 8));
-  note();
   stats->n = n;
+  st = r.run();  // takes the band buffers
+  note();
   stats->peak_arena_bytes = uint32_t(peak);
-  st = r.run();
   arena.release_to(start);
   return st;
 }

@@ -78,10 +78,11 @@ TriageMask edge_triage_mask(const int64_t corner[4]) {
   return enter == g1 ? TriageMask{m.c, m.v} : TriageMask{m.v, m.c};
 }
 
-void HierTiler::init(Pyramid* pyramid, int32_t pitch, WorkImage* work) {
+void HierTiler::init(Pyramid* pyramid, int32_t pitch, WorkImage* work, int work_row0) {
   pyr_ = pyramid;
   pitch_ = pitch;
   work_ = work;
+  work_row0_ = work_row0;
   cells_visited = 0;
 }
 
@@ -137,8 +138,9 @@ uint64_t HierTiler::exact_samples(const Edges& edges, uint64_t todo) const {
 
 void HierTiler::add_work(int level, int mx, int my) {
   const int s = pyr_->layout.shift(level);
-  const int x0 = mx << s, y0 = my << s;
-  const int x1 = min_of(x0 + (1 << s), work_->width), y1 = min_of(y0 + (1 << s), work_->height);
+  const int x0 = mx << s, y0 = work_row0_ + (my << s);
+  const int x1 = min_of(x0 + (1 << s), work_->width);
+  const int y1 = min_of(min_of(y0 + (1 << s), work_row0_ + pyr_->layout.height), work_->height);
   if (x1 <= x0 || y1 <= y0) return;
   const uint32_t add = uint32_t(65536 / (int64_t(x1 - x0) * (y1 - y0)));
   for (int y = y0; y < y1; ++y)

@@ -16,7 +16,7 @@
 #pragma once
 #include <stdint.h>
 
-#include "render/render.h"
+#include "core/options.h"
 #include "tiler/pyramid.h"
 #include "view/view.h"
 
@@ -65,8 +65,9 @@ enum class TileResult : uint8_t { Hidden, Tiled, Failed };
 
 class HierTiler {
  public:
-  // pitch: subpixels per sample. work: optional work image (same size as the screen, pitch 256).
-  void init(Pyramid* pyramid, int32_t pitch, WorkImage* work);
+  // pitch: subpixels per sample. work: optional work image (same size as the screen, pitch 256);
+  // the pyramid's row 0 is its row work_row0 (the band's top row).
+  void init(Pyramid* pyramid, int32_t pitch, WorkImage* work, int work_row0 = 0);
 
   // Tiles one polygon, front to back: Hidden when the bounding-box test proves it invisible
   // (nothing visited), Failed when the writer refused a write.
@@ -112,6 +113,7 @@ class HierTiler {
   Pyramid* pyr_ = nullptr;
   int32_t pitch_ = 256;
   WorkImage* work_ = nullptr;
+  int work_row0_ = 0;
   // Sample box of the polygon being tiled or queried (inclusive).
   int32_t bx0_ = 0, by0_ = 0, bx1_ = -1, by1_ = -1;
 };

@@ -3,6 +3,7 @@
 // background is tiled through the root mask last. See docs/tiler.md.
 #include "tiler/tiler.h"
 
+#include "core/band.h"
 #include "tiler/tile.h"
 
 namespace ml {
@@ -20,12 +21,13 @@ size_t bsp_stack_entries(const Scene& scene) {
   return scene.info ? size_t(scene.info->bsp_depth) + 1 : 1;
 }
 
-// Turns newly covered sample blocks into sink writes of the current piece's colours. Colours are
-// computed on the first write, so hidden pieces cost no shading.
-class SinkWriter : public CoverageWriter {
+// Turns newly covered sample blocks (band-local rows) into band-buffer writes of the current piece's
+// colours. Colours are computed on the first write, so hidden pieces cost no shading.
+class BandWriter : public CoverageWriter {
  public:
-  SinkWriter(Sink& sink, Stats* stats, Pixel* row) : sink_(sink), stats_(stats), row_(row) {}
+  BandWriter(BandOutput& out, Stats* stats, Pixel* row) : out_(out), stats_(stats), row_(row) {}
 
+  void begin_band(int top) { top_ = top; }
   void begin_piece(const Scene* scene, const Light* light, ShadingMode mode, uint32_t triangle,
                    bool front_facing) {
     scene_ = scene;
@@ -46,8 +48,10 @@ class SinkWriter : public CoverageWriter {
     colors_.smooth = false;
   }
   bool wrote_piece() const { return wrote_piece_; }
+  void clear_piece() { wrote_piece_ = false; }
 
-  bool write(int x, int y, int w, int h) override {
+  bool write(int x, int band_y, int w, int h) override {
+    const int y = band_y + top_;
     wrote_piece_ = true;
     if (!shaded_) {
       shade_triangle(*scene_, *light_, mode_, triangle_, front_facing_, &colors_);
@@ -56,8 +60,8 @@ class SinkWriter : public CoverageWriter {
     }
     stats_->pixel_writes += uint64_t(w) * uint64_t(h);
     if (!colors_.smooth) {
-      ++stats_->sink_calls;
-      return sink_.fill_block(x, y, w, h, colors_.flat);
+      out_.fill(x, y, w, h, colors_.flat);
+      return true;
     }
     if (!planes_ready_) {
       make_color_planes(*part_, colors_, &planes_);
@@ -81,16 +85,16 @@ class SinkWriter : public CoverageWriter {
           }
           row_[i] = rgb(ch[0], ch[1], ch[2]);
         }
-        ++stats_->sink_calls;
-        if (!sink_.write_block(x0, yy, n, 1, row_, n)) return false;
+        out_.put_row(x0, yy, row_, n);
       }
     return true;
   }
 
  private:
-  Sink& sink_;
+  BandOutput& out_;
   Stats* stats_;
   Pixel* row_;
+  int top_ = 0;
   const Scene* scene_ = nullptr;
   const Light* light_ = nullptr;
   ShadingMode mode_ = ShadingMode::Flat;
@@ -220,16 +224,32 @@ bool box_screen_rect(const View& view, const BspNode& node, int32_t* x0, int32_t
   return true;
 }
 
-// True when no sample that a piece of the node's subtree could write is still uncovered (or the
-// subtree has no pieces).
-bool subtree_hidden(const View& view, const BspNode& node, HierTiler& tiler) {
+// The rows of the screen one band covers: the pyramid holds only these, and polygons are moved into
+// band-local rows (E(x, y + top) folds top into c, so coverage is the screen's exactly).
+struct BandRows {
+  int top = 0, rows = 0;
+
+  // Moves a screen-space polygon into the band; false when it has no row there.
+  bool clip(ConvexPoly* poly) const {
+    if (poly->max_y < top || poly->min_y >= top + rows || poly->min_x > poly->max_x) return false;
+    for (int i = 0; i < poly->n; ++i) poly->edge[i].c += poly->edge[i].b * (int64_t(top) * kSubpixelOne);
+    poly->min_y = max_of(poly->min_y - top, 0);
+    poly->max_y = min_of(poly->max_y - top, rows - 1);
+    return true;
+  }
+};
+
+// True when no sample of the band that a piece of the node's subtree could write is still uncovered
+// (or the subtree has no pieces).
+bool subtree_hidden(const View& view, const BandRows& band, const BspNode& node, HierTiler& tiler) {
   if (node.subtree_pieces == 0) return true;
   ConvexPoly box;
   if (!box_screen_rect(view, node, &box.min_x, &box.min_y, &box.max_x, &box.max_y)) return false;
   box.min_x = max_of(box.min_x, 0);
-  box.min_y = max_of(box.min_y, 0);
   box.max_x = min_of(box.max_x, view.width - 1);
-  box.max_y = min_of(box.max_y, view.height - 1);
+  if (box.max_y < band.top || box.min_y >= band.top + band.rows) return true;
+  box.min_y = max_of(box.min_y - band.top, 0);
+  box.max_y = min_of(box.max_y - band.top, band.rows - 1);
   return !tiler.box_visible(box);  // false for an empty (off-screen) box too
 }
 
@@ -243,20 +263,189 @@ Status check_options(const Camera& camera, const RenderOptions& options) {
   if (options.work && (!options.work->q16 || options.work->width != camera.width ||
                        options.work->height != camera.height))
     return error(StatusCode::InvalidArgument, "work image must match the screen size");
+  return BandOutput::check(options.output);
+}
+
+// Pyramid layout of one band (the last band may be lower than the others).
+bool band_layout(int width, int rows, PyramidLayout* out) {
+  return make_pyramid_layout(clamp_to(width, 1, kMaxScreenDim), clamp_to(rows, 1, kMaxScreenDim), out);
+}
+
+// One frame: the BSP walked front to back once per band, each band's pyramid rebuilt in the same
+// arena space.
+class TilerFrame {
+ public:
+  TilerFrame(const Scene& scene, const Camera& camera, const RenderOptions& options, const View& view,
+             Stats* st)
+      : scene_(scene), camera_(camera), options_(options), view_(view), st_(st) {}
+
+  Status run(Arena& arena, Sink& sink);
+
+ private:
+  Status render_band(int band, Arena& arena);
+  // Projects, culls and tiles one piece into the band's pyramid.
+  Status draw_piece(const BspPiece& piece);
+  Status finish(Status s, const Arena& arena) {
+    st_->peak_arena_bytes = uint32_t(arena.peak());
+    return s;
+  }
+
+  const Scene& scene_;
+  const Camera& camera_;
+  const RenderOptions& options_;
+  const View& view_;
+  Stats* st_;
+  Light light_{};
+  BandOutput out_;
+  Pyramid pyramid_;
+  HierTiler tiler_;
+  BandRows band_;
+  BandWriter* writer_ = nullptr;
+  BspFrame* stack_ = nullptr;
+  size_t stack_cap_ = 0;
+};
+
+Status TilerFrame::run(Arena& arena, Sink& sink) {
+  stack_cap_ = bsp_stack_entries(scene_);
+  stack_ = arena.allocate_array<BspFrame>(stack_cap_);
+  Pixel* row = arena.allocate_array<Pixel>(kRowPixels);
+  const size_t need = tiler_arena_bytes(scene_, camera_, options_);
+  if (!stack_ || !row) return error(StatusCode::ArenaTooSmall, "arena too small", need);
+  Status s = out_.begin(options_.output, camera_.width, camera_.height, arena, sink);
+  if (!s.ok()) return finish(s.code == StatusCode::ArenaTooSmall ? error(s.code, s.message, need) : s, arena);
+  light_ = make_light(view_);
+  BandWriter writer(out_, st_, row);
+  writer_ = &writer;
+  st_->bsp_nodes = scene_.bsp_node_count;
+  st_->bsp_pieces = scene_.bsp_piece_count;
+  for (int band = 0; band < out_.band_count(); ++band) {
+    s = render_band(band, arena);
+    if (!s.ok()) return finish(s, arena);
+  }
+  return finish(out_.end(), arena);
+}
+
+Status TilerFrame::render_band(int band, Arena& arena) {
+  Status s = out_.start_band(band);
+  if (!s.ok()) return s;
+  band_.top = out_.band_top(band);
+  band_.rows = out_.band_height(band);
+  PyramidLayout layout;
+  band_layout(camera_.width, band_.rows, &layout);
+  const size_t mark = arena.mark();
+  if (!pyramid_.allocate(layout, arena)) return error(StatusCode::ArenaTooSmall, "arena too small");
+  pyramid_.clear();
+  st_->pyramid_bytes = max_of(st_->pyramid_bytes, layout.bytes());
+  const uint64_t cells = tiler_.cells_visited;
+  tiler_.init(&pyramid_, kSubpixelOne, options_.work, band_.top);
+  tiler_.cells_visited = cells;
+  writer_->begin_band(band_.top);
+
+  // Front to back without recursion: one frame per node on the current root-to-node path; the far
+  // child replaces its parent's frame, so the stack never holds more than the path.
+  const TriageMask& root = pyramid_.mask(0, 0, 0);
+  uint32_t pieces_done = 0, visits = 0;
+  size_t sp = 0;
+  stack_[sp++] = 0;
+  while (sp > 0 && root.c != ~uint64_t(0)) {
+    if (++visits > 2 * scene_.bsp_node_count) return error(StatusCode::BadScene, "BSP is not a tree");
+    BspFrame& f = stack_[sp - 1];
+    const uint32_t index = f & ~kNearDone;
+    if (index >= scene_.bsp_node_count) return error(StatusCode::BadScene, "BSP child out of range");
+    const BspNode& node = scene_.bsp_nodes[index];
+    const int64_t side = int64_t(node.normal[0]) * view_.eye.x + int64_t(node.normal[1]) * view_.eye.y +
+                         int64_t(node.normal[2]) * view_.eye.z - node.d;
+    const uint32_t near = side >= 0 ? node.front : node.back;
+    const uint32_t far = side >= 0 ? node.back : node.front;
+    if (!(f & kNearDone)) {
+      if (node.subtree_pieces >= kCullMinPieces && subtree_hidden(view_, band_, node, tiler_)) {
+        // Every piece below is hidden (or outside the band).
+        pieces_done += node.subtree_pieces;
+        st_->triangles_culled += node.subtree_pieces;
+        ++st_->bsp_subtrees_culled;
+        --sp;
+        continue;
+      }
+      f |= kNearDone;
+      if (near != kNone) {
+        if (sp == stack_cap_) return error(StatusCode::BadScene, "BSP deeper than bsp_depth");
+        stack_[sp++] = near;
+      }
+      continue;
+    }
+    for (uint32_t p = node.first_piece; p < node.first_piece + node.piece_count; ++p) {
+      ++pieces_done;
+      s = draw_piece(scene_.bsp_pieces[p]);
+      if (!s.ok()) return s;
+      if (writer_->wrote_piece()) ++st_->triangles_drawn; else ++st_->triangles_culled;
+    }
+    if (far != kNone) f = far; else --sp;
+  }
+  // Once the root is covered every remaining piece is hidden.
+  if (scene_.bsp_piece_count > pieces_done) st_->triangles_culled += scene_.bsp_piece_count - pieces_done;
+
+  writer_->begin_background(options_.shading == ShadingMode::Ids ? 0 : options_.background);
+  const uint64_t before = tiler_.cells_visited;
+  if (!tiler_.background(*writer_)) return error(StatusCode::SinkFailed, "sink refused a write");
+  tiler_.cells_visited = before;
+  st_->cells_visited = tiler_.cells_visited;
+  arena.release_to(mark);
+  ++st_->bands;
+  ++st_->sink_calls;
+  return out_.finish_band();
+}
+
+Status TilerFrame::draw_piece(const BspPiece& piece) {
+  writer_->clear_piece();
+  const Triangle& tri = scene_.triangles[piece.triangle];
+  const Material& mat = scene_.materials[scene_.batches[tri.batch].material];
+  // Facing is decided on the whole triangle, exactly as the scanline renderer decides it, and
+  // before projecting, so back faces cost almost nothing.
+  Vec3i whole_world[3];
+  triangle_world(scene_, piece.triangle, whole_world);
+  const int facing = triangle_facing(view_, whole_world);
+  if (facing == 0 || (facing < 0 && !mat.double_sided)) return ok_status();
+  const bool split = is_split_piece(piece, tri);
+  Vec3i world[3];
+  for (int i = 0; i < 3; ++i) world[i] = split ? vertex_world(scene_, tri.batch, piece.v[i]) : whole_world[i];
+  ScreenTriangle parts[kMaxClipTriangles];
+  const int n = project_triangle(view_, world, facing, parts);
+  writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0);
+  for (int i = 0; i < n; ++i) {
+    TriangleSetup setup;
+    setup_triangle(parts[i], camera_.width, camera_.height, &setup);
+    ConvexPoly poly;
+    poly_from_setup(setup, &poly);
+    ConvexPoly in_band = poly;
+    if (!band_.clip(&in_band)) continue;
+    if (n == 1 && split && tiler_.box_visible(in_band)) {
+      ScreenTriangle whole[kMaxClipTriangles];
+      if (project_triangle(view_, whole_world, facing, whole) == 1) {
+        TriangleSetup whole_setup;
+        setup_triangle(whole[0], camera_.width, camera_.height, &whole_setup);
+        clip_to_triangle(view_, parts[0], whole_setup, camera_.width, camera_.height, &poly);
+        in_band = poly;
+        if (!band_.clip(&in_band)) continue;
+      }
+    }
+    ++st_->triangles_tiled;
+    writer_->begin_part(&parts[i]);
+    if (tiler_.tile(in_band, *writer_) == TileResult::Failed)
+      return error(StatusCode::SinkFailed, "sink refused a write");
+  }
   return ok_status();
 }
 
 }  // namespace
 
 size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
-  (void)options;
   PyramidLayout layout;
-  if (!make_pyramid_layout(clamp_to(camera.width, 1, kMaxScreenDim),
-                           clamp_to(camera.height, 1, kMaxScreenDim), &layout))
-    return 0;
+  const int width = clamp_to(camera.width, 1, kMaxScreenDim), height = clamp_to(camera.height, 1, kMaxScreenDim);
+  if (!band_layout(width, band_rows_for(options.output, height), &layout)) return 0;
   return Pyramid::arena_bytes(layout) +
          arena_worst_case(sizeof(BspFrame) * bsp_stack_entries(scene), 4) +
-         arena_worst_case(sizeof(Pixel) * kRowPixels, 4);
+         arena_worst_case(sizeof(Pixel) * kRowPixels, 4) +
+         BandOutput::arena_bytes(options.output, width, height);
 }
 
 Status tiler_render(const Scene& scene, const Camera& camera, const RenderOptions& options,
@@ -279,122 +468,8 @@ Status tiler_render(const Scene& scene, const Camera& camera, const RenderOption
   const size_t need = tiler_arena_bytes(scene, camera, options);
   if (arena.size() - arena.used() < need)
     return error(StatusCode::ArenaTooSmall, "arena too small for the tiler", need);
-
-  PyramidLayout layout;
-  make_pyramid_layout(camera.width, camera.height, &layout);
-  Pyramid pyramid;
-  const size_t stack_cap = bsp_stack_entries(scene);
-  if (!pyramid.allocate(layout, arena)) return error(StatusCode::ArenaTooSmall, "arena too small", need);
-  BspFrame* stack = arena.allocate_array<BspFrame>(stack_cap);
-  Pixel* row = arena.allocate_array<Pixel>(kRowPixels);
-  if (!stack || !row) return error(StatusCode::ArenaTooSmall, "arena too small", need);
-  pyramid.clear();
-  st->pyramid_bytes = layout.bytes();
-  st->bsp_nodes = scene.bsp_node_count;
-  st->bsp_pieces = scene.bsp_piece_count;
-
-  HierTiler tiler;
-  tiler.init(&pyramid, kSubpixelOne, options.work);
-  const Light light = make_light(view);
-  SinkWriter writer(sink, st, row);
-
-  auto finish = [&](Status s) {
-    st->cells_visited = tiler.cells_visited;
-    st->peak_arena_bytes = uint32_t(arena.peak());
-    return s;
-  };
-  if (!sink.begin_frame(camera.width, camera.height))
-    return finish(error(StatusCode::SinkFailed, "sink refused the frame"));
-
-  // Front to back without recursion: one frame per node on the current root-to-node path; the far
-  // child replaces its parent's frame, so the stack never holds more than the path.
-  const TriageMask& root = pyramid.mask(0, 0, 0);
-  uint32_t pieces_done = 0, visits = 0;
-  size_t sp = 0;
-  stack[sp++] = 0;
-  ScreenTriangle parts[kMaxClipTriangles];
-  while (sp > 0 && root.c != ~uint64_t(0)) {
-    if (++visits > 2 * scene.bsp_node_count)
-      return finish(error(StatusCode::BadScene, "BSP is not a tree"));
-    BspFrame& f = stack[sp - 1];
-    const uint32_t index = f & ~kNearDone;
-    if (index >= scene.bsp_node_count) return finish(error(StatusCode::BadScene, "BSP child out of range"));
-    const BspNode& node = scene.bsp_nodes[index];
-    const int64_t side = int64_t(node.normal[0]) * view.eye.x + int64_t(node.normal[1]) * view.eye.y +
-                         int64_t(node.normal[2]) * view.eye.z - node.d;
-    const uint32_t near = side >= 0 ? node.front : node.back;
-    const uint32_t far = side >= 0 ? node.back : node.front;
-    if (!(f & kNearDone)) {
-      if (node.subtree_pieces >= kCullMinPieces && subtree_hidden(view, node, tiler)) {
-        // Every piece below is hidden.
-        pieces_done += node.subtree_pieces;
-        st->triangles_culled += node.subtree_pieces;
-        ++st->bsp_subtrees_culled;
-        --sp;
-        continue;
-      }
-      f |= kNearDone;
-      if (near != kNone) {
-        if (sp == stack_cap) return finish(error(StatusCode::BadScene, "BSP deeper than bsp_depth"));
-        stack[sp++] = near;
-      }
-      continue;
-    }
-    for (uint32_t p = node.first_piece; p < node.first_piece + node.piece_count; ++p) {
-      ++pieces_done;
-      const BspPiece& piece = scene.bsp_pieces[p];
-      const Triangle& tri = scene.triangles[piece.triangle];
-      const Material& mat = scene.materials[scene.batches[tri.batch].material];
-      // Facing is decided on the whole triangle, exactly as the scanline renderer decides it, and
-      // before projecting, so back faces cost almost nothing.
-      Vec3i whole_world[3];
-      triangle_world(scene, piece.triangle, whole_world);
-      const int facing = triangle_facing(view, whole_world);
-      if (facing == 0 || (facing < 0 && !mat.double_sided)) {
-        ++st->triangles_culled;
-        continue;
-      }
-      const bool split = is_split_piece(piece, tri);
-      Vec3i world[3];
-      for (int i = 0; i < 3; ++i) world[i] = split ? vertex_world(scene, tri.batch, piece.v[i]) : whole_world[i];
-      const int n = project_triangle(view, world, facing, parts);
-      if (n == 0) {
-        ++st->triangles_culled;
-        continue;
-      }
-      writer.begin_piece(&scene, &light, options.shading, piece.triangle, facing > 0);
-      for (int i = 0; i < n; ++i) {
-        TriangleSetup setup;
-        setup_triangle(parts[i], camera.width, camera.height, &setup);
-        ConvexPoly poly;
-        poly_from_setup(setup, &poly);
-        if (poly.min_x > poly.max_x || poly.min_y > poly.max_y) continue;
-        ++st->triangles_tiled;
-        if (n == 1 && split && tiler.box_visible(poly)) {
-          ScreenTriangle whole[kMaxClipTriangles];
-          if (project_triangle(view, whole_world, facing, whole) == 1) {
-            TriangleSetup whole_setup;
-            setup_triangle(whole[0], camera.width, camera.height, &whole_setup);
-            clip_to_triangle(view, parts[0], whole_setup, camera.width, camera.height, &poly);
-          }
-        }
-        writer.begin_part(&parts[i]);
-        if (tiler.tile(poly, writer) == TileResult::Failed)
-          return finish(error(StatusCode::SinkFailed, "sink refused a write"));
-      }
-      if (writer.wrote_piece()) ++st->triangles_drawn; else ++st->triangles_culled;
-    }
-    if (far != kNone) f = far; else --sp;
-  }
-  // Once the root is covered every remaining piece is hidden.
-  if (scene.bsp_piece_count > pieces_done) st->triangles_culled += scene.bsp_piece_count - pieces_done;
-
-  writer.begin_background(options.shading == ShadingMode::Ids ? 0 : options.background);
-  const uint64_t before = tiler.cells_visited;
-  if (!tiler.background(writer)) return finish(error(StatusCode::SinkFailed, "sink refused a write"));
-  tiler.cells_visited = before;
-  if (!sink.end_frame()) return finish(error(StatusCode::SinkFailed, "sink refused the frame end"));
-  return finish(ok_status());
+  TilerFrame frame(scene, camera, options, view, st);
+  return frame.run(arena, sink);
 }
 
 }  // namespace ml

@@ -1,71 +1,146 @@
 // The host's checking sink and PNG files: the contract checks the CLI and the renderer tests rely on.
 #include <gtest/gtest.h>
 
+#include "core/pixel_format.h"
+#include "platform/host/format_names.h"
 #include "platform/host/image_sink.h"
+#include "platform/host/png_stream_sink.h"
 #include "platform/host/png_io.h"
 #include "platform/host/stats_json.h"
 #include "tests/cli/cli_runner.h"
 
 namespace {
 
-TEST(CliImageSink, AcceptsEveryPixelOnceInAnyShape) {
+// A band of packed pixels, as a renderer would flush it.
+struct Band {
+  ml::PixelFormat format;
+  int width, rows;
+  std::vector<uint8_t> bytes;
+  Band(ml::PixelFormat f, int w, int r) : format(f), width(w), rows(r), bytes(ml::format_band_bytes(f, w, r)) {}
+  void fill(ml::Pixel p) {
+    ml::PixelPacker packer;
+    packer.init(format, false);
+    packer.fill(bytes.data(), ml::format_stride(format, width), 0, 0, 0, width, rows, p);
+  }
+  ml::Flush at(int y, int height = -1) const {
+    ml::Flush f;
+    f.y = y;
+    f.width = width;
+    f.height = height < 0 ? rows : height;
+    f.stride = ml::format_stride(format, width);
+    f.bytes = bytes.data();
+    return f;
+  }
+};
+
+ml::FrameInfo frame(int w, int h, int band_rows, ml::PixelFormat f = ml::PixelFormat::Xrgb8888) {
+  ml::FrameInfo info;
+  info.width = w;
+  info.height = h;
+  info.band_rows = band_rows;
+  info.format = f;
+  return info;
+}
+
+TEST(CliImageSink, AcceptsBandsTopToBottomAndDecodes) {
   mlhost::ImageSink sink;
-  ASSERT_TRUE(sink.begin_frame(5, 3));
-  const ml::Pixel block[4] = {1, 2, 3, 4};
-  EXPECT_TRUE(sink.write_block(0, 0, 2, 2, block, 2));
-  EXPECT_TRUE(sink.fill_block(2, 0, 3, 2, 9));
-  EXPECT_TRUE(sink.fill_block(0, 2, 5, 1, 7));
+  ASSERT_TRUE(sink.begin_frame(frame(5, 5, 2)));
+  Band band(ml::PixelFormat::Xrgb8888, 5, 2);
+  band.fill(0x123456);
+  EXPECT_TRUE(sink.flush(band.at(0)));
+  EXPECT_FALSE(sink.lent(0));  // released before returning
+  band.fill(0xABCDEF);
+  EXPECT_TRUE(sink.flush(band.at(2)));
+  band.fill(0x000001);
+  EXPECT_TRUE(sink.flush(band.at(4, 1)));
   EXPECT_TRUE(sink.end_frame());
   EXPECT_TRUE(sink.contract_ok()) << sink.contract_error();
-  EXPECT_EQ(sink.at(1, 1), 4u);
-  EXPECT_EQ(sink.at(4, 1), 9u);
-  EXPECT_EQ(sink.at(3, 2), 7u);
-  EXPECT_EQ(sink.pixel_writes(), 15u);
-  EXPECT_FALSE(sink.rows_in_order());
+  EXPECT_EQ(sink.at(4, 1), 0x123456u);
+  EXPECT_EQ(sink.at(0, 3), 0xABCDEFu);
+  EXPECT_EQ(sink.at(2, 4), 0x000001u);
+  EXPECT_EQ(sink.pixel_writes(), 25u);
+  EXPECT_EQ(sink.flushes(), 3u);
+  EXPECT_EQ(sink.counters.bytes, 100u);
+  EXPECT_EQ(sink.counters.windows, 3u);
 }
 
-TEST(CliImageSink, ReportsDoubleWritesGapsAndOutOfBounds) {
-  mlhost::ImageSink twice;
-  twice.begin_frame(4, 4);
-  twice.fill_block(0, 0, 4, 4, 1);
-  twice.fill_block(1, 2, 1, 1, 2);
-  twice.end_frame();
-  EXPECT_FALSE(twice.contract_ok());
-  EXPECT_NE(twice.contract_error().find("(1,2) written twice"), std::string::npos) << twice.contract_error();
-  EXPECT_EQ(twice.writes_at(1, 2), 2);
+TEST(CliImageSink, ReportsBandsOutOfOrderGapsAndUnwrittenPixels) {
+  Band band(ml::PixelFormat::Xrgb8888, 4, 2);
+  band.fill(1);
+  mlhost::ImageSink skip;
+  skip.begin_frame(frame(4, 4, 2));
+  EXPECT_FALSE(skip.flush(band.at(2)));
+  EXPECT_NE(skip.contract_error().find("next band is 4x2 at (0,0)"), std::string::npos) << skip.contract_error();
 
   mlhost::ImageSink gap;
-  gap.begin_frame(4, 4);
-  gap.fill_block(0, 0, 4, 3, 1);
+  gap.begin_frame(frame(4, 4, 2));
+  gap.flush(band.at(0));
   gap.end_frame();
   EXPECT_FALSE(gap.contract_ok());
-  EXPECT_NE(gap.contract_error().find("4 pixel(s) never written"), std::string::npos) << gap.contract_error();
+  EXPECT_NE(gap.contract_error().find("2 row(s) never flushed"), std::string::npos) << gap.contract_error();
 
-  mlhost::ImageSink outside;
-  outside.begin_frame(4, 4);
-  EXPECT_FALSE(outside.fill_block(3, 3, 2, 1, 1));
-  EXPECT_FALSE(outside.contract_ok());
+  // The sink poisons a band after reading it: a pixel left alone before the next flush shows.
+  mlhost::ImageSink poison;
+  poison.begin_frame(frame(4, 4, 2));
+  band.fill(1);  // the sinks above poisoned it
+  EXPECT_TRUE(poison.flush(band.at(0)));
+  ml::PixelPacker packer;
+  packer.init(ml::PixelFormat::Xrgb8888, false);
+  packer.fill(band.bytes.data(), 16, 0, 0, 2, 4, 2, 7);
+  packer.fill(band.bytes.data(), 16, 0, 1, 3, 3, 1, 7);  // misses pixel (3, 3)
+  poison.flush(band.at(2));
+  poison.end_frame();
+  EXPECT_FALSE(poison.contract_ok());
+  EXPECT_NE(poison.contract_error().find("(3,3) never written"), std::string::npos) << poison.contract_error();
 
   mlhost::ImageSink strict(true);
-  strict.begin_frame(2, 1);
-  EXPECT_TRUE(strict.fill_block(0, 0, 1, 1, 1));
-  EXPECT_FALSE(strict.fill_block(0, 0, 1, 1, 1));  // refused: the render aborts
+  strict.begin_frame(frame(2, 2, 1));
+  EXPECT_FALSE(strict.flush(band.at(1, 1)));  // refused: the render aborts
 }
 
-TEST(CliImageSink, TracksRowsArrivingTopToBottom) {
-  mlhost::ImageSink rows;
-  rows.begin_frame(3, 2);
-  const ml::Pixel row[3] = {1, 2, 3};
-  rows.write_block(0, 0, 3, 1, row, 3);
-  rows.write_block(0, 1, 3, 1, row, 3);
-  rows.end_frame();
-  EXPECT_TRUE(rows.contract_ok());
-  EXPECT_TRUE(rows.rows_in_order());
-  mlhost::ImageSink reversed;
-  reversed.begin_frame(3, 2);
-  reversed.write_block(0, 1, 3, 1, row, 3);
-  reversed.write_block(0, 0, 3, 1, row, 3);
-  EXPECT_FALSE(reversed.rows_in_order());
+TEST(CliImageSink, DecodesEveryFormat) {
+  for (ml::PixelFormat f : {ml::PixelFormat::Rgb565Be, ml::PixelFormat::Rgb565Le, ml::PixelFormat::Grey8,
+                            ml::PixelFormat::Grey4, ml::PixelFormat::Mono1, ml::PixelFormat::Id32}) {
+    mlhost::ImageSink sink;
+    const int rows = ml::format_row_unit(f) * 2;
+    ASSERT_TRUE(sink.begin_frame(frame(7, rows, rows, f)));
+    Band band(f, 7, rows);
+    band.fill(0xFFFFFF);
+    EXPECT_TRUE(sink.flush(band.at(0)));
+    EXPECT_TRUE(sink.end_frame());
+    EXPECT_TRUE(sink.contract_ok()) << sink.contract_error();
+    EXPECT_EQ(sink.at(6, rows - 1), 0xFFFFFFu) << mlhost::format_name(f);
+    EXPECT_EQ(sink.counters.bytes, ml::format_band_bytes(f, 7, rows));
+  }
+}
+
+TEST(CliPngStream, WritesBandsAsTheyComeAndChecksTheirOrder) {
+  const std::string dir = clitest::make_temp_dir();
+  Band band(ml::PixelFormat::Rgb565Be, 3, 2);
+  {
+    mlhost::PngStreamSink sink(dir + "/s.png");
+    ASSERT_TRUE(sink.begin_frame(frame(3, 3, 2, ml::PixelFormat::Rgb565Be)));
+    band.fill(0xFF0000);
+    EXPECT_TRUE(sink.flush(band.at(0)));
+    band.fill(0x0000FF);
+    EXPECT_TRUE(sink.flush(band.at(2, 1)));
+    EXPECT_TRUE(sink.end_frame());
+    EXPECT_EQ(sink.error(), "");
+  }
+  int w = 0, h = 0;
+  std::vector<uint32_t> back;
+  ASSERT_EQ(mlhost::read_png(dir + "/s.png", &w, &h, &back, false), "");
+  ASSERT_EQ(back.size(), 9u);
+  EXPECT_EQ(back[0], 0xFF0000u);
+  EXPECT_EQ(back[8], 0x0000FFu);
+  mlhost::PngStreamSink bad(dir + "/b.png");
+  ASSERT_TRUE(bad.begin_frame(frame(3, 3, 2, ml::PixelFormat::Rgb565Be)));
+  EXPECT_FALSE(bad.flush(band.at(1)));
+  EXPECT_NE(bad.error().find("next band"), std::string::npos) << bad.error();
+  mlhost::PngStreamSink nowhere("/nonexistent-dir/x.png");
+  EXPECT_FALSE(nowhere.begin_frame(frame(3, 3, 2)));
+  EXPECT_NE(nowhere.error().find("/nonexistent-dir/x.png"), std::string::npos);
+  clitest::remove_tree(dir);
 }
 
 TEST(CliPng, RgbAndIdImagesRoundTrip) {

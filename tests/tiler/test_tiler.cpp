@@ -6,6 +6,7 @@
 #include <random>
 
 #include "core/arena.h"
+#include "core/band.h"
 #include "render/render.h"
 #include "tests/tiler/tiler_test_util.h"
 #include "tiler/tile.h"
@@ -256,15 +257,17 @@ struct Frame {
 };
 
 Frame render(const ml::Scene& scene, const ml::Camera& cam, ml::ShadingMode mode, ml::WorkImage* work = nullptr,
-             size_t arena_bytes = 0) {
+             size_t arena_bytes = 0, ml::OutputOptions output = ml::OutputOptions{}) {
   Frame f;
   ml::RenderOptions opt;
   opt.shading = mode;
   opt.work = work;
-  const size_t need = ml::tiler_arena_bytes(scene, cam, opt);
-  std::vector<uint8_t> mem(arena_bytes ? arena_bytes : need);
+  opt.output = output;
+  const size_t need = ml::render_arena_bytes(scene, cam, opt);
+  // Poisoned, so a pixel the renderer skips in a band shows (platform/host/image_sink.h).
+  std::vector<uint8_t> mem(arena_bytes ? arena_bytes : need, mlhost::kPoisonByte);
   ml::Arena arena(mem.data(), mem.size());
-  f.status = ml::tiler_render(scene, cam, opt, arena, f.sink, &f.stats);
+  f.status = ml::render(scene, cam, opt, arena, f.sink, &f.stats);
   return f;
 }
 
@@ -320,10 +323,40 @@ TEST(TilerRender, RandomScenesWriteEveryPixelOnceAndMatchBruteForce) {
       EXPECT_EQ(f.stats.sink_calls, uint64_t(f.sink.calls));
       EXPECT_GT(f.stats.cells_visited, 0u);
       EXPECT_GT(f.stats.triangles_drawn, 10u);
-      EXPECT_EQ(f.stats.triangles_drawn + f.stats.triangles_culled, f.stats.bsp_pieces);
+      EXPECT_EQ(f.stats.triangles_drawn + f.stats.triangles_culled, uint64_t(f.stats.bsp_pieces) * f.stats.bands);
       if (mode == ml::ShadingMode::Ids) {
         const auto expect = brute_ids(ts, cam);
         for (size_t p = 0; p < expect.size(); ++p) ASSERT_EQ(f.sink.image[p], expect[p]) << "pixel " << p;
+      }
+    }
+  }
+}
+
+// Bands are an output detail: any band height and buffer count gives the image of one band, each
+// pixel once, with one flush a band.
+TEST(TilerRender, BandSplitGivesTheSameImageAsOneBand) {
+  std::mt19937 rng(77);
+  tiler_test::TestScene ts;
+  ts.build(tiler_test::random_scene(rng, 120, 160));
+  const ml::Camera cam = tiler_test::test_camera(173, 131);
+  for (ml::ShadingMode mode : {ml::ShadingMode::Ids, ml::ShadingMode::Gouraud}) {
+    ml::OutputOptions whole;
+    whole.band_rows = 0;
+    const Frame one = render(ts.scene, cam, mode, nullptr, 0, whole);
+    ASSERT_TRUE(one.status.ok()) << one.status.message;
+    EXPECT_EQ(one.stats.bands, 1u);
+    for (int rows : {1, 7, 8, 16, 64, 130, 131}) {
+      for (int buffers : {1, 2}) {
+        ml::OutputOptions out;
+        out.band_rows = rows;
+        out.buffers = buffers;
+        const Frame f = render(ts.scene, cam, mode, nullptr, 0, out);
+        ASSERT_TRUE(f.status.ok()) << f.status.message;
+        ASSERT_TRUE(f.sink.contract_ok()) << f.sink.contract_error();
+        EXPECT_EQ(f.stats.bands, uint32_t((131 + rows - 1) / rows));
+        EXPECT_EQ(f.sink.calls, int(f.stats.bands));
+        EXPECT_EQ(f.stats.pixel_writes, 173u * 131u);
+        ASSERT_EQ(f.sink.image, one.sink.image) << "band rows " << rows << ", buffers " << buffers;
       }
     }
   }
@@ -491,9 +524,11 @@ TEST(TilerRender, ArenaTooSmallNamesBytesAndWritesNothing) {
   tiler_test::TestScene ts;
   ts.build(tiler_test::random_scene(rng, 30, 100));
   const ml::Camera cam = tiler_test::test_camera(320, 240);
-  const size_t need = ml::tiler_arena_bytes(ts.scene, cam, ml::RenderOptions{});
-  EXPECT_GT(need, 9936u);
-  EXPECT_LT(need, 12u * 1024u);  // the 320x240 working-memory target
+  const ml::RenderOptions defaults;
+  const size_t need = ml::render_arena_bytes(ts.scene, cam, defaults);
+  const size_t bands = ml::BandOutput::arena_bytes(defaults.output, 320, 240);
+  EXPECT_EQ(bands, 320u * 16u * 4u + 3u);                // one 16-row XRGB8888 band, worst-case alignment
+  EXPECT_LT(need - bands, 2u * 1024u);  // the band's pyramid, the BSP stack and a row of colours
   for (size_t give : {size_t(0), size_t(100), need - 1}) {
     Frame f = render(ts.scene, cam, ml::ShadingMode::Flat, nullptr, give ? give : 1);
     EXPECT_EQ(f.status.code, ml::StatusCode::ArenaTooSmall);
@@ -504,7 +539,13 @@ TEST(TilerRender, ArenaTooSmallNamesBytesAndWritesNothing) {
   Frame ok = render(ts.scene, cam, ml::ShadingMode::Flat, nullptr, need);
   EXPECT_TRUE(ok.status.ok());
   EXPECT_LE(ok.stats.peak_arena_bytes, need);
-  EXPECT_EQ(ok.stats.pyramid_bytes, 9936u);
+  EXPECT_EQ(ok.stats.pyramid_bytes, 736u);  // 320x16: 1 + 5 triage masks, 80 blocks
+  // The whole frame as one band: the pyramid of the full screen.
+  ml::OutputOptions whole;
+  whole.band_rows = 0;
+  Frame one = render(ts.scene, cam, ml::ShadingMode::Flat, nullptr, 0, whole);
+  EXPECT_TRUE(one.status.ok());
+  EXPECT_EQ(one.stats.pyramid_bytes, 9936u);
 }
 
 TEST(TilerRender, SceneWithoutBspIsUnsupported) {
@@ -549,7 +590,9 @@ TEST(TilerRender, BackFacesCulledUnlessDoubleSided) {
   b.double_sided = true;
   tiler_test::TestScene ts;
   ts.build({a, b});
-  Frame f = render(ts.scene, tiler_test::test_camera(120, 90), ml::ShadingMode::Ids);
+  ml::OutputOptions one_band;
+  one_band.band_rows = 0;
+  Frame f = render(ts.scene, tiler_test::test_camera(120, 90), ml::ShadingMode::Ids, nullptr, 0, one_band);
   ASSERT_TRUE(f.status.ok());
   EXPECT_EQ(f.stats.triangles_drawn, 1u);
   EXPECT_EQ(f.stats.triangles_culled, 1u);
@@ -579,7 +622,7 @@ void expect_same_frame(const Frame& culled, const Frame& plain, const ml::Camera
   for (int c : culled.sink.count) ASSERT_EQ(c, 1);
   EXPECT_EQ(plain.stats.bsp_subtrees_culled, 0u);
   EXPECT_EQ(culled.stats.triangles_drawn, plain.stats.triangles_drawn);
-  EXPECT_EQ(culled.stats.triangles_drawn + culled.stats.triangles_culled, culled.stats.bsp_pieces);
+  EXPECT_EQ(culled.stats.triangles_drawn + culled.stats.triangles_culled, uint64_t(culled.stats.bsp_pieces) * culled.stats.bands);
   for (size_t p = 0; p < culled.sink.image.size(); ++p)
     ASSERT_EQ(culled.sink.image[p], plain.sink.image[p]) << "pixel " << p % size_t(cam.width) << ","
                                                           << p / size_t(cam.width);

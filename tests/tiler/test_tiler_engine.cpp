@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "core/arena.h"
+#include "core/band.h"
+#include "render/render.h"
 #include "platform/host/scene_load.h"
 #include "tests/common/engine_scene.h"
 #include "tests/tiler/tiler_test_util.h"
@@ -26,21 +28,25 @@ TEST(TilerEngine, EveryPixelOnceAt320x240AndOthers) {
       const ml::Camera cam = ml::frame_sphere(centre, info.sphere_radius, w, h, 45 << 16);
       ml::RenderOptions o;
       o.shading = mode;
-      const size_t need = ml::tiler_arena_bytes(s->scene, cam, o);
+      const size_t need = ml::render_arena_bytes(s->scene, cam, o);
       std::vector<uint64_t> mem(need / 8 + 1);
       ml::Arena arena(mem.data(), need);
       tiler_test::CountingSink sink;
       ml::Stats st;
-      const ml::Status r = ml::tiler_render(s->scene, cam, o, arena, sink, &st);
+      const ml::Status r = ml::render(s->scene, cam, o, arena, sink, &st);
       ASSERT_TRUE(r.ok()) << r.message;
       ASSERT_FALSE(sink.out_of_bounds);
       for (int c : sink.count) ASSERT_EQ(c, 1);
       EXPECT_EQ(st.pixel_writes, uint64_t(w) * uint64_t(h));
-      EXPECT_EQ(st.triangles_drawn + st.triangles_culled, st.bsp_pieces);
+      EXPECT_EQ(st.triangles_drawn + st.triangles_culled, uint64_t(st.bsp_pieces) * st.bands);
       EXPECT_GT(st.triangles_drawn, 100u);
       EXPECT_LE(st.peak_arena_bytes, need);
       if (w == 320 && mode == ml::ShadingMode::Flat) {
-        EXPECT_LE(need, 12u * 1024u) << "working memory at 320x240";
+        EXPECT_LE(need - ml::BandOutput::arena_bytes(o.output, w, h), 12u * 1024u) << "tiler memory at 320x240";
+        ml::RenderOptions panel = o;
+        panel.output.format = ml::PixelFormat::Rgb565Be;
+        EXPECT_LE(ml::render_arena_bytes(s->scene, cam, panel), 24u * 1024u)
+            << "320x240 RGB565 with 16-row bands: tiler and band buffer";
         std::printf("[ info ] 2CylinderEngine 320x240: cells_visited %llu (%.3f per pixel), pieces %u, "
                     "drawn %u, arena %zu bytes\n",
                     static_cast<unsigned long long>(st.cells_visited), double(st.cells_visited) / (w * h),

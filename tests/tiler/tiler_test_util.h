@@ -10,6 +10,8 @@
 #include <random>
 #include <vector>
 
+#include "platform/host/image_sink.h"
+
 #include "core/sink.h"
 #include "scene/scene.h"
 #include "tiler/pyramid.h"
@@ -154,40 +156,29 @@ inline std::string check_pyramid(const ml::Pyramid& p) {
   return err;
 }
 
-// A sink that counts writes per pixel and keeps the image.
-class CountingSink : public ml::Sink {
+// The host's checking sink (platform/host/image_sink.h) with the image and per-pixel write counts
+// as plain vectors once the frame ends (never-written pixels read 0xDEADBEEF).
+class CountingSink : public mlhost::ImageSink {
  public:
-  bool begin_frame(int w, int h) override {
+  bool begin_frame(const ml::FrameInfo& f) override {
     ++begins;
-    width = w;
-    height = h;
-    image.assign(size_t(w) * size_t(h), 0xDEADBEEF);
-    count.assign(size_t(w) * size_t(h), 0);
-    return true;
+    width = f.width;
+    height = f.height;
+    return ImageSink::begin_frame(f);
   }
-  bool write_block(int x, int y, int w, int h, const ml::Pixel* px, int stride) override {
+  bool flush(const ml::Flush& b) override {
     ++calls;
-    for (int yy = 0; yy < h; ++yy)
-      for (int xx = 0; xx < w; ++xx) put(x + xx, y + yy, px[yy * stride + xx]);
-    return true;
-  }
-  bool fill_block(int x, int y, int w, int h, ml::Pixel v) override {
-    ++calls;
-    for (int yy = 0; yy < h; ++yy)
-      for (int xx = 0; xx < w; ++xx) put(x + xx, y + yy, v);
-    return true;
+    if (b.x != 0 || b.y < 0 || b.width != width || b.y + b.height > height) out_of_bounds = true;
+    return ImageSink::flush(b);
   }
   bool end_frame() override {
     ++ends;
-    return true;
-  }
-  void put(int x, int y, ml::Pixel v) {
-    if (x < 0 || y < 0 || x >= width || y >= height) {
-      out_of_bounds = true;
-      return;
-    }
-    image[size_t(y) * size_t(width) + size_t(x)] = v;
-    ++count[size_t(y) * size_t(width) + size_t(x)];
+    const bool ok = ImageSink::end_frame();
+    image = pixels();
+    count.assign(writes().begin(), writes().end());
+    for (size_t i = 0; i < image.size(); ++i)
+      if (count[i] == 0) image[i] = 0xDEADBEEF;
+    return ok;
   }
   int width = 0, height = 0;
   int begins = 0, ends = 0, calls = 0;

@@ -1,0 +1,89 @@
+// Pixel formats (core/pixel_format.h): every format stores and loads back what it quantized,
+// quantization is round-to-nearest, dithering keeps the average and only moves a value by one level,
+// and sub-byte formats leave their neighbours alone.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+#include "core/pixel_format.h"
+
+namespace {
+
+const ml::PixelFormat kAll[] = {ml::PixelFormat::Rgb565Be, ml::PixelFormat::Rgb565Le, ml::PixelFormat::Xrgb8888,
+                                ml::PixelFormat::Grey8,    ml::PixelFormat::Grey4,    ml::PixelFormat::Mono1,
+                                ml::PixelFormat::Id32};
+
+TEST(PixelFormat, StoreLoadRoundTripsAndKeepsNeighbours) {
+  std::mt19937 rng(5);
+  for (ml::PixelFormat f : kAll) {
+    const int width = 13, rows = 16;
+    const uint32_t stride = ml::format_stride(f, width);
+    std::vector<uint8_t> band(ml::format_band_bytes(f, width, rows) + 4, 0x5A);
+    std::vector<uint32_t> expect(size_t(width) * rows);
+    // Write pixels one at a time in a random order: each store must leave the others alone.
+    std::vector<int> order(expect.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = int(i);
+    std::shuffle(order.begin(), order.end(), rng);
+    for (int i : order) {
+      const ml::Pixel p = rng() & 0xFFFFFF;
+      const uint32_t v = ml::quantize_pixel(f, p, false, i % width, i / width);
+      ml::store_pixels(f, band.data(), stride, i % width, i / width, &v, 1);
+      expect[size_t(i)] = v;
+    }
+    for (int i = 0; i < int(expect.size()); ++i)
+      ASSERT_EQ(ml::load_pixel(f, band.data(), stride, i % width, i / width), expect[size_t(i)]) << int(f) << " " << i;
+    EXPECT_EQ(band[band.size() - 1], 0x5A) << "wrote past the band";
+  }
+}
+
+TEST(PixelFormat, QuantizesToNearestAndExpandsBack) {
+  EXPECT_EQ(ml::quantize_pixel(ml::PixelFormat::Rgb565Be, 0xFFFFFF, false, 0, 0), 0xFFFFu);
+  EXPECT_EQ(ml::quantize_pixel(ml::PixelFormat::Rgb565Le, 0xFF0000, false, 0, 0), 0xF800u);
+  EXPECT_EQ(ml::quantize_pixel(ml::PixelFormat::Grey4, 0xFFFFFF, false, 0, 0), 15u);
+  EXPECT_EQ(ml::quantize_pixel(ml::PixelFormat::Mono1, 0x7F7F7F, false, 0, 0), 0u);
+  EXPECT_EQ(ml::quantize_pixel(ml::PixelFormat::Mono1, 0x818181, false, 0, 0), 1u);
+  EXPECT_EQ(ml::expand_stored(ml::PixelFormat::Grey4, 7), 0x777777u);
+  EXPECT_EQ(ml::expand_stored(ml::PixelFormat::Rgb565Be, 0xFFFF), 0xFFFFFFu);
+  // Every 8-bit value lands on the nearest of the format's levels.
+  for (uint32_t v = 0; v < 256; ++v) {
+    const uint32_t r5 = ml::quantize_pixel(ml::PixelFormat::Rgb565Be, v << 16, false, 0, 0) >> 11;
+    EXPECT_LE(std::abs(int(r5 * 255) - int(v * 31)), 255 / 2 + 1) << v;
+    const uint32_t g4 = ml::quantize_pixel(ml::PixelFormat::Grey4, v * 0x010101, false, 0, 0);
+    EXPECT_LE(std::abs(int(g4 * 255) - int(v * 15)), 255 / 2 + 1) << v;
+  }
+}
+
+TEST(PixelFormat, DitherKeepsTheAverageAndMovesAtMostOneLevel) {
+  for (ml::PixelFormat f : {ml::PixelFormat::Grey4, ml::PixelFormat::Mono1, ml::PixelFormat::Rgb565Be}) {
+    const uint32_t levels = f == ml::PixelFormat::Grey4 ? 15 : f == ml::PixelFormat::Mono1 ? 1 : 31;
+    for (uint32_t v = 0; v < 256; v += 5) {
+      const ml::Pixel p = f == ml::PixelFormat::Rgb565Be ? v << 16 : v * 0x010101;
+      const uint32_t plain = ml::quantize_pixel(f, p, false, 0, 0) >> (f == ml::PixelFormat::Rgb565Be ? 11 : 0);
+      double sum = 0;
+      for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x) {
+          const uint32_t d = ml::quantize_pixel(f, p, true, x, y) >> (f == ml::PixelFormat::Rgb565Be ? 11 : 0);
+          EXPECT_LE(std::abs(int(d) - int(plain)), 1) << v;
+          sum += d;
+        }
+      // The 4x4 tile's mean is v in level units, to within one sixteenth of a level.
+      EXPECT_NEAR(sum / 16.0, double(v) * levels / 255.0, 1.0 / 16 + 1e-9) << int(f) << " v " << v;
+    }
+  }
+  // Lossless formats ignore the dither flag.
+  EXPECT_EQ(ml::quantize_pixel(ml::PixelFormat::Xrgb8888, 0x123456, true, 1, 2), 0x123456u);
+}
+
+TEST(PixelFormat, BandSizesFollowTheFormats) {
+  EXPECT_EQ(ml::format_band_bytes(ml::PixelFormat::Rgb565Be, 320, 16), 10240u);
+  EXPECT_EQ(ml::format_band_bytes(ml::PixelFormat::Grey4, 128, 64), 4096u);
+  EXPECT_EQ(ml::format_band_bytes(ml::PixelFormat::Grey4, 5, 1), 3u);
+  EXPECT_EQ(ml::format_band_bytes(ml::PixelFormat::Mono1, 128, 64), 1024u);
+  EXPECT_EQ(ml::format_band_bytes(ml::PixelFormat::Mono1, 128, 9), 256u);  // two pages
+  EXPECT_EQ(ml::format_row_unit(ml::PixelFormat::Mono1), 8);
+  EXPECT_TRUE(ml::format_dithers_by_default(ml::PixelFormat::Grey4));
+  EXPECT_FALSE(ml::format_dithers_by_default(ml::PixelFormat::Rgb565Be));
+}
+
+}  // namespace
