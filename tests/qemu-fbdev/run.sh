@@ -72,7 +72,7 @@ mkdir -p "$work/root/bin" "$work/root/dev" "$work/root/proc" "$work/root/sys" "$
 cp "$busybox" "$work/root/bin/busybox"
 cp "$kernel"/modules/*.ko "$work/root/lib/fb/"
 cp "$guest" "$work/root/bin/fbtest"
-[ ! -x "$cli" ] || cp "$cli" "$work/root/bin/maskline"
+if [ -x "$cli" ]; then strip -o "$work/root/bin/maskline" "$cli" 2>/dev/null || cp "$cli" "$work/root/bin/maskline"; fi
 cat >"$work/root/init" <<'EOF'
 #!/bin/busybox sh
 bb=/bin/busybox
