@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs, with apt, the Debian packages that maskline's build, tests and demo need and that are missing.
 # Safe to run again: it installs nothing when everything is present. Prints what it installs.
+# Also fetches Debian's kernel for the QEMU framebuffer test (tests/qemu-fbdev/fetch_kernel.sh).
 set -eu
 
 packages=(
@@ -27,13 +28,17 @@ done
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "bootstrap: all ${#packages[@]} packages present"
-  exit 0
+else
+  echo "bootstrap: installing ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  echo "bootstrap: installed ${#missing[@]} package(s)"
 fi
 
-echo "bootstrap: installing ${missing[*]}"
-sudo=""
-[ "$(id -u)" -eq 0 ] || sudo="sudo"
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-echo "bootstrap: installed ${#missing[@]} package(s)"
+# Debian's kernel for the QEMU framebuffer test: downloaded and unpacked into a cache, not installed.
+# Not fatal here: without it the test fails and says why.
+bash "$(dirname "$0")/../tests/qemu-fbdev/fetch_kernel.sh" ||
+  echo "bootstrap: no kernel for the QEMU framebuffer test (tests/qemu-fbdev/fetch_kernel.sh failed)"
