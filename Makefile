@@ -112,7 +112,7 @@ $(BUILD)/qemu-fbdev/fb_check: $(BUILD)/obj/tests/qemu-fbdev/fb_check.o $(BUILD)/
 $(BUILD)/qemu-fbdev/maskline: $(BUILD)/obj/platform/host/main.o $(HOST_OBJ) $(SCENEC_OBJ) $(BUILD)/libmaskline.a
 	@mkdir -p $(dir $@)
 	$(CXX) $(OPT) -static -o $@ $^ $(HOST_LIBS) -lz -lm
-QEMU_FB := $(BUILD)/qemu-fbdev/fb_pattern $(BUILD)/qemu-fbdev/fb_check
+QEMU_FB := $(BUILD)/qemu-fbdev/fb_pattern $(BUILD)/qemu-fbdev/fb_check $(BUILD)/qemu-fbdev/maskline
 
 # ---- fuzzing: clang libFuzzer over the blob reader ----
 FUZZ_SRC := tests/fuzz/fuzz_blob_reader.cpp $(CORE_SRC)

@@ -34,6 +34,9 @@ configs=(
   "fb16-cirrus|cirrus|1024x768-16|$cirrus|16|"
   "fb24-cirrus|cirrus|800x600-24|$cirrus|24|"
   "fb16-cirrusfb-pan|cirrus|640x480|cirrusfb:mode_option=640x480-16|16|--pan"
+  "cli-fb16|cirrus|1024x768-16|$cirrus|16||--size 320x240"
+  "cli-fb32|std|1024x768|$bochs|32||--size 640x480 --renderer scanline --aa 2 --shading gouraud"
+  "cli-fb24|cirrus|800x600-24|$cirrus|24||--size 800x600 --band-rows 7 --buffers 2"
 )
 
 failed=0
