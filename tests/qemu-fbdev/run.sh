@@ -187,10 +187,16 @@ check_screen() {
   done
 }
 
+timed_out=""
 for c in "${selected[@]}"; do
   IFS='|' read -r name vga video mods bpp args cliargs <<<"$c"
   dir="$work/$name"
   mkdir -p "$dir"
+  # A guest that never got ready once will most likely never: do not spend a minute on each.
+  if [ -n "$timed_out" ]; then
+    report_fail "$name" "not run: $timed_out timed out"
+    continue
+  fi
   expected=(pattern)
   if [ -n "$cliargs" ]; then
     if [ ! -x "$cli" ]; then
@@ -209,6 +215,7 @@ for c in "${selected[@]}"; do
   boot "$dir" "$vga" "$video" "$mods" "$args" "$cliargs"
   if [ -z "$ready" ]; then
     report_fail "$name" "$why (serial log: $dir/serial.log)"
+    case "$why" in "no READY line"*) timed_out=$name ;; esac
   elif [ "${verdict#ok }" != "$verdict" ]; then
     echo "$verdict, ${boot_seconds} s"
   else
