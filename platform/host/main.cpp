@@ -627,7 +627,6 @@ int cmd_show(int argc, char** argv) {
     r.height = std::min(display->height(), int(ml::kMaxScreenDim));
   }
   finish_render_args(&r);
-  fprintf(stderr, "maskline: showing on %s\n", display->describe().c_str());
 
   mlhost::LoadedScene loaded;
   const ml::Scene scene = require_scene(a.positional.empty() ? "" : a.positional[0], &loaded);
@@ -648,8 +647,11 @@ int cmd_show(int argc, char** argv) {
     if (out_png && (f + 1 == frames || out_png->find('%') != std::string::npos))
       write_shown(*display, frame_file(*out_png, f), zoom, scene, camera, r.opt, r.arena_override);
   }
-  if (frames > 1 && !want_stats)
-    printf("%d frames in %.2f s: %.1f frames per second\n", frames, seconds, seconds > 0 ? frames / seconds : 0.0);
+  if (!want_stats) {
+    printf("shown on %s\n", display->describe().c_str());
+    if (frames > 1)
+      printf("%d frames in %.2f s: %.1f frames per second\n", frames, seconds, seconds > 0 ? frames / seconds : 0.0);
+  }
   return 0;
 }
 
