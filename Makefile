@@ -23,10 +23,11 @@ SAN       := -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-
 
 CORE_SRC  := $(shell find src tables -name '*.cpp' 2>/dev/null | sort)
 SCENEC_SRC:= $(shell find tools/scenec -name '*.cpp' 2>/dev/null | sort)
+# Host code: the CLI's pieces, the panel drivers (shared with firmware) and the Linux display code.
 HOST_SRC  := $(filter-out platform/host/main.cpp,$(shell find platform/host platform/panels platform/linux -name '*.cpp' 2>/dev/null | sort))
-TEST_SRC  := $(shell find tests -name '*.cpp' -not -path 'tests/fuzz/*' 2>/dev/null | sort)
+TEST_SRC  := $(shell find tests -name '*.cpp' -not -path 'tests/fuzz/*' -not -path 'tests/qemu-fbdev/*' 2>/dev/null | sort)
 MASKGEN_SRC := $(shell find tools/maskgen -name '*.cpp' 2>/dev/null | sort)
-BENCH_SRC := $(shell find tools/bench -name '*.cpp' 2>/dev/null | sort)
+BENCH_SRC := $(shell find tools/bench -name '*.cpp' -not -path 'tools/bench/sort/*' 2>/dev/null | sort)
 
 HOST_LIBS := -lpng -lgpiod
 
@@ -91,12 +92,31 @@ $(BUILD)/san/maskline: $(BUILD)/san/obj/platform/host/main.o $(HOST_SOBJ) $(SCEN
 $(BUILD)/bench: $(call rel,$(BENCH_SRC)) $(HOST_OBJ) $(SCENEC_OBJ) $(BUILD)/libmaskline.a
 	$(CXX) $(OPT) -o $@ $^ $(HOST_LIBS)
 
+# sort_bench: instructions of the scanline renderer's active-list sorts (docs/scanline.md)
+$(BUILD)/sort_bench: $(call rel,tools/bench/sort/sort_bench.cpp)
+	$(CXX) $(OPT) -o $@ $^
+
 $(BUILD)/maskgen: $(call rel,$(MASKGEN_SRC))
 	$(CXX) $(OPT) -o $@ $^
 
 $(BUILD)/san/tests: $(TEST_SOBJ) $(HOST_SOBJ) $(SCENEC_SOBJ) $(BUILD)/san/libmaskline.a
 	@if [ -d $@ ]; then rm -rf $@; fi  # object folder of older builds (objects now live in san/obj/)
 	$(CXX) $(SAN) -o $@ $^ -lgtest_main -lgtest -lpthread $(HOST_LIBS)
+
+# ---- the QEMU framebuffer test (tests/qemu-fbdev): a static guest program and the host-side check ----
+QEMU_FB_CORE := src/core/arena.cpp src/core/band.cpp src/core/pixel_format.cpp
+$(BUILD)/qemu-fbdev/fb_pattern: tests/qemu-fbdev/fb_pattern.cpp tests/qemu-fbdev/pattern.h platform/linux/fbdev/fbdev_sink.cpp platform/linux/fbdev/fbdev_sink.h $(QEMU_FB_CORE)
+	@mkdir -p $(dir $@)
+	$(CXX) $(HOST_FLAGS) -O2 -static -o $@ tests/qemu-fbdev/fb_pattern.cpp platform/linux/fbdev/fbdev_sink.cpp $(QEMU_FB_CORE)
+$(BUILD)/qemu-fbdev/fb_check: $(BUILD)/obj/tests/qemu-fbdev/fb_check.o $(BUILD)/obj/platform/host/png_io.o $(call rel,$(QEMU_FB_CORE))
+	@mkdir -p $(dir $@)
+	$(CXX) $(OPT) -o $@ $^ $(HOST_LIBS)
+# The CLI linked static (libpng, zlib, libgpiod from the Debian -dev packages' .a files): runs in the
+# guest (`maskline show --display fb:/dev/fb0`) and renders the host-side reference.
+$(BUILD)/qemu-fbdev/maskline: $(BUILD)/obj/platform/host/main.o $(HOST_OBJ) $(SCENEC_OBJ) $(BUILD)/libmaskline.a
+	@mkdir -p $(dir $@)
+	$(CXX) $(OPT) -static -o $@ $^ $(HOST_LIBS) -lz -lm
+QEMU_FB := $(BUILD)/qemu-fbdev/fb_pattern $(BUILD)/qemu-fbdev/fb_check
 
 # ---- fuzzing: clang libFuzzer over the blob reader ----
 FUZZ_SRC := tests/fuzz/fuzz_blob_reader.cpp $(CORE_SRC)
@@ -109,7 +129,7 @@ fuzz: bootstrap
 	bash tests/fuzz/run.sh $(BUILD) 60
 
 test: bootstrap
-	@$(MAKE) --no-print-directory $(BUILD)/san/tests $(BUILD)/san/maskline $(BUILD)/maskgen $(BUILD)/fuzz_blob_reader
+	@$(MAKE) --no-print-directory $(BUILD)/san/tests $(BUILD)/san/maskline $(BUILD)/maskgen $(BUILD)/fuzz_blob_reader $(QEMU_FB)
 	@bash tests/run_all.sh $(BUILD) $(MASK_K)
 
 tables: $(BUILD)/maskgen
@@ -119,7 +139,7 @@ demo: all
 	@bash tools/demo.sh $(BUILD)
 
 bench: all
-	@$(MAKE) --no-print-directory $(BUILD)/bench
+	@$(MAKE) --no-print-directory $(BUILD)/bench $(BUILD)/sort_bench
 	@bash tools/bench/run.sh $(BUILD)
 
 clean:

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Runs every test: the sanitized GoogleTest binary (unit, property, oracle and CLI tests) and the
-# blob-reader fuzz smoke run. Usage: tests/run_all.sh BUILD MASK_K
+# Runs every test: the sanitized GoogleTest binary (unit, property, oracle and CLI tests), the
+# blob-reader fuzz smoke run and the framebuffer test under QEMU (tests/qemu-fbdev).
+# Usage: tests/run_all.sh BUILD MASK_K
 # The last line is exactly "N passed, N failed"; the exit status is non-zero when anything failed.
 set -u
 
@@ -57,6 +58,23 @@ if [ -f tests/fuzz/run.sh ]; then
 else
   failed=$((failed + 1))
   failures+=("fuzz smoke: tests/fuzz/run.sh is missing")
+fi
+
+# ---- QEMU framebuffer test (one test per screen configuration) ---------------------------------
+if [ -f tests/qemu-fbdev/run.sh ]; then
+  echo "qemu-fbdev: the fbdev sink on a real kernel's /dev/fb0 under QEMU"
+  start=$SECONDS
+  while IFS= read -r line; do
+    echo "$line" >>"$log"
+    case "$line" in
+      "ok "*) passed=$((passed + 1)); echo "qemu-fbdev: ${line#ok }" ;;
+      "not ok "*) failed=$((failed + 1)); failures+=("qemu-fbdev ${line#not ok }") ;;
+    esac
+  done < <(bash tests/qemu-fbdev/run.sh "$build" 2>>"$log")
+  echo "qemu-fbdev: done in $((SECONDS - start)) s"
+else
+  failed=$((failed + 1))
+  failures+=("qemu-fbdev: tests/qemu-fbdev/run.sh is missing")
 fi
 
 if [ ${#failures[@]} -gt 0 ]; then

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs, with apt, the Debian packages that maskline's build, tests and demo need and that are missing.
 # Safe to run again: it installs nothing when everything is present. Prints what it installs.
+# Also fetches Debian's kernel for the QEMU framebuffer test (tests/qemu-fbdev/fetch_kernel.sh).
 set -eu
 
 packages=(
@@ -13,6 +14,7 @@ packages=(
   libgpiod-dev          # SPI panel reset/data-command lines
   assimp-testmodels     # real glTF 2.0 inputs, good and broken
   valgrind              # instruction counts for benchmarks
+  time                  # peak resident memory in the benchmarks
   clang                 # libFuzzer target for the blob reader
   zlib1g-dev            # static CLI build for the QEMU framebuffer test (libpng needs zlib)
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib  # Cortex-M builds of src/
@@ -27,13 +29,17 @@ done
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "bootstrap: all ${#packages[@]} packages present"
-  exit 0
+else
+  echo "bootstrap: installing ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  echo "bootstrap: installed ${#missing[@]} package(s)"
 fi
 
-echo "bootstrap: installing ${missing[*]}"
-sudo=""
-[ "$(id -u)" -eq 0 ] || sudo="sudo"
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-echo "bootstrap: installed ${#missing[@]} package(s)"
+# Debian's kernel for the QEMU framebuffer test: downloaded and unpacked into a cache, not installed.
+# Not fatal here: without it the test fails and says why.
+bash "$(dirname "$0")/../tests/qemu-fbdev/fetch_kernel.sh" ||
+  echo "bootstrap: no kernel for the QEMU framebuffer test (tests/qemu-fbdev/fetch_kernel.sh failed)"

@@ -7,7 +7,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -15,6 +18,7 @@
 #include "core/fixed.h"
 #include "core/band.h"
 #include "core/pixel_format.h"
+#include "platform/host/displays.h"
 #include "platform/host/format_names.h"
 #include "platform/host/image_sink.h"
 #include "platform/host/png_io.h"
@@ -44,6 +48,8 @@ const char* const kMainHelp =
     "  info [SCENE] [--size WxH] [--aa N] [--renderer R]\n"
     "                                      triangles, nodes, materials, bounds, BSP, arena bytes\n"
     "  render [SCENE] [options]            render to PNG (see maskline render --help)\n"
+    "  show [SCENE] --display SPEC [options]\n"
+    "                                      draw on a framebuffer, an SPI panel or a panel emulator\n"
     "  help [COMMAND]                      this text, or a command's\n"
     "\n"
     "SCENE is a .glb/.gltf file (compiled in memory) or a .mls blob; without it the bundled default\n"
@@ -93,6 +99,30 @@ const char* const kRenderHelp =
     "  --buffers 1|2               band buffers (2 lets a display send one band while the next renders)\n"
     "\n"
     "Bands stream into the PNG as they leave the renderer: no frame buffer is held.\n";
+
+const char* const kShowHelp =
+    "usage: maskline show [SCENE] --display SPEC [render options] [-o OUT.png] [--stats]\n"
+    "                     [--frames N --orbit DEG]\n"
+    "\n"
+    "Draws the frame on a display, band by band, in the display's own pixel format.\n"
+    "  --display fb:/dev/fbN         a Linux framebuffer (the frame is centred on its screen)\n"
+    "  --display spi:PANEL[,key=value...]\n"
+    "                                a panel on spidev with D/C and RESET on GPIO lines; keys: rotation,\n"
+    "                                device, speed, mode, bits, chip, dc, reset, max (docs/panels.md)\n"
+    "  --display emu:PANEL[,rotation=DEG]\n"
+    "                                a panel emulator decoding the exact bytes the panel would receive\n"
+    "  PANEL: ili9341, st7789, st7789-240, ssd1306, ssd0323. Without rotation= the panel is mounted so\n"
+    "  it shows --size (320x240 on an ILI9341: rotation 90); without --size, at its own size.\n"
+    "  -o OUT.png                    what the display shows (emulators: the decoded panel; others: the\n"
+    "                                frame in the display's format); with %d in the name, every frame\n"
+    "  --zoom N                      magnify an emulator's picture N times in OUT.png (1..16, default 1)\n"
+    "  --frames N --orbit DEG        N frames, the camera turning DEG degrees a frame about the target;\n"
+    "                                prints each frame's time and the frames per second\n"
+    "  --stats                       one JSON line of statistics per frame (display_bytes and\n"
+    "                                display_windows count what went to the display)\n"
+    "The render options are those of maskline render (--renderer, --size, --aa, --shading, --eye,\n"
+    "--target, --up, --fov, --near, --background, --seed, --dither, --band-rows, --buffers, --arena);\n"
+    "--format, when given, must be the display's.\n";
 
 // ---- argument parsing ---------------------------------------------------------------------------
 
@@ -510,6 +540,121 @@ int cmd_render(int argc, char** argv) {
   return 0;
 }
 
+// ---- show: frames on a display ------------------------------------------------------------------
+
+// The camera turned by `degrees` about the up axis through its target (host code: doubles are fine).
+ml::Camera orbit(const ml::Camera& c, double degrees) {
+  const double pi = 3.14159265358979323846;
+  const double a = degrees * pi / 180.0, cs = std::cos(a), sn = std::sin(a);
+  double u[3] = {double(c.up.x), double(c.up.y), double(c.up.z)};
+  const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  for (double& x : u) x /= len;
+  const double v[3] = {double(c.eye.x) - c.target.x, double(c.eye.y) - c.target.y, double(c.eye.z) - c.target.z};
+  const double dot = u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+  const double cross[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+  double r[3];
+  for (int i = 0; i < 3; ++i) r[i] = v[i] * cs + cross[i] * sn + u[i] * dot * (1 - cs);  // Rodrigues
+  ml::Camera out = c;
+  out.eye = ml::Vec3i{int32_t(std::llround(c.target.x + r[0])), int32_t(std::llround(c.target.y + r[1])),
+                      int32_t(std::llround(c.target.z + r[2]))};
+  return out;
+}
+
+// OUT.png for the last frame, or one file per frame when the name holds a printf %d.
+std::string frame_file(const std::string& pattern, int frame) {
+  if (pattern.find('%') == std::string::npos) return pattern;
+  char name[4096];
+  snprintf(name, sizeof name, pattern.c_str(), frame);
+  return name;
+}
+
+// Writes what the display shows (an emulator's glass) or, for real hardware, the frame rendered again
+// into a PNG in the display's format.
+void write_shown(mlhost::Display& display, const std::string& path, int zoom, const ml::Scene& scene,
+                 const ml::Camera& camera, const ml::RenderOptions& o, long long arena_override) {
+  std::vector<ml::Pixel> pixels;
+  int w = 0, h = 0;
+  if (display.picture(&pixels, &w, &h)) {
+    std::vector<ml::Pixel> big(pixels.size() * size_t(zoom) * size_t(zoom));
+    for (size_t y = 0; y < size_t(h) * size_t(zoom); ++y)
+      for (size_t x = 0; x < size_t(w) * size_t(zoom); ++x)
+        big[y * size_t(w) * size_t(zoom) + x] = pixels[(y / size_t(zoom)) * size_t(w) + x / size_t(zoom)];
+    const std::string e = mlhost::write_png_rgb(path, w * zoom, h * zoom, big);
+    if (!e.empty()) failure(e);
+    return;
+  }
+  mlhost::PngStreamSink png(path);
+  render_into(scene, camera, o, arena_override, png, &png.error());
+}
+
+int cmd_show(int argc, char** argv) {
+  std::vector<std::string> valued = kRenderValued;
+  for (const char* v : {"--display", "-o", "--frames", "--orbit", "--zoom"}) valued.push_back(v);
+  const Args a = parse_args(argc, argv, 2, valued, {"--stats"}, "show");
+  if (a.help) {
+    fputs(kShowHelp, stdout);
+    return 0;
+  }
+  if (a.positional.size() > 1) usage_error("show: expected at most one scene, got '" + a.positional[1] + "'");
+  RenderArgs r;
+  int frames = 1, zoom = 1;
+  double orbit_deg = 0;
+  for (const auto& o : a.options) {
+    if (parse_render_option(o.first, o.second, &r)) continue;
+    if (o.first == "--frames") frames = int(parse_integer(o.first, o.second, 1, 100000));
+    else if (o.first == "--orbit") orbit_deg = parse_number(o.first, o.second);
+    else if (o.first == "--zoom") zoom = int(parse_integer(o.first, o.second, 1, 16));
+    else if ((o.first == "-o" || o.first == "--display") && o.second.empty()) usage_error(o.first + ": needs a value");
+  }
+  const std::string* spec = find_option(a, "--display");
+  if (!spec) usage_error("show: --display SPEC is required (see maskline show --help)");
+  const std::string kind = spec->substr(0, spec->find(':'));
+  if (spec->find(':') == std::string::npos || (kind != "fb" && kind != "spi" && kind != "emu"))
+    usage_error("--display: expected fb:/dev/fbN, spi:PANEL[,key=value...] or emu:PANEL[,rotation=DEG], got '" +
+                *spec + "'");
+  const std::string* out_png = find_option(a, "-o");
+  const bool want_stats = has_flag(a, "--stats");
+
+  std::string error;
+  std::unique_ptr<mlhost::Display> display =
+      mlhost::open_display(*spec, r.has_size ? r.width : 0, r.has_size ? r.height : 0, &error);
+  if (!display) failure(error);
+  if (r.has_format && r.opt.output.format != display->format())
+    usage_error(std::string("--format: ") + display->describe() + " takes " + mlhost::format_name(display->format()));
+  r.opt.output.format = display->format();
+  if (!r.has_size) {
+    r.width = std::min(display->width(), int(ml::kMaxScreenDim));
+    r.height = std::min(display->height(), int(ml::kMaxScreenDim));
+  }
+  finish_render_args(&r);
+
+  mlhost::LoadedScene loaded;
+  const ml::Scene scene = require_scene(a.positional.empty() ? "" : a.positional[0], &loaded);
+  const ml::Camera base = make_camera(scene, r.camera, r.width, r.height);
+  double seconds = 0;
+  for (int f = 0; f < frames; ++f) {
+    const ml::Camera camera = orbit_deg != 0 ? orbit(base, orbit_deg * f) : base;
+    const auto start = std::chrono::steady_clock::now();
+    const ml::Stats stats = render_into(scene, camera, r.opt, r.arena_override, display->sink());
+    const double frame_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    seconds += frame_s;
+    if (!display->error().empty()) failure(display->error());
+    if (want_stats)
+      printf("%s\n", mlhost::stats_json(stats, run_info_for(scene, loaded, r, shading_name(r.opt.shading), *spec)).c_str());
+    else if (frames > 1)
+      printf("frame %d: %.1f ms, %llu display bytes, %u windows\n", f, frame_s * 1000.0,
+             (unsigned long long)stats.display_bytes, stats.display_windows);
+    if (out_png && (f + 1 == frames || out_png->find('%') != std::string::npos))
+      write_shown(*display, frame_file(*out_png, f), zoom, scene, camera, r.opt, r.arena_override);
+  }
+  if (!want_stats) {
+    printf("shown on %s\n", display->describe().c_str());
+    if (frames > 1)
+      printf("%d frames in %.2f s: %.1f frames per second\n", frames, seconds, seconds > 0 ? frames / seconds : 0.0);
+  }
+  return 0;
+}
+
 int dispatch(int argc, char** argv) {
   if (argc < 2) usage_error("missing command (see maskline --help)");
   const std::string cmd = argv[1];
@@ -519,6 +664,7 @@ int dispatch(int argc, char** argv) {
     if (topic == "compile") fputs(kCompileHelp, stdout);
     else if (topic == "info") fputs(kInfoHelp, stdout);
     else if (topic == "render") fputs(kRenderHelp, stdout);
+    else if (topic == "show") fputs(kShowHelp, stdout);
     else if (topic.empty() || cmd != "help") fputs(kMainHelp, stdout);
     else usage_error("help: unknown command '" + topic + "'");
     return 0;
@@ -526,6 +672,7 @@ int dispatch(int argc, char** argv) {
   if (cmd == "compile") return cmd_compile(argc, argv);
   if (cmd == "info") return cmd_info(argc, argv);
   if (cmd == "render") return cmd_render(argc, argv);
+  if (cmd == "show") return cmd_show(argc, argv);
   usage_error("unknown command '" + cmd + "' (see maskline --help)");
 }
 

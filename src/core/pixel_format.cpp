@@ -1,5 +1,7 @@
 #include "core/pixel_format.h"
 
+#include <string.h>
+
 namespace ml {
 
 namespace {
@@ -40,11 +42,7 @@ inline void store_aligned(PixelFormat format, uint8_t* at, uint32_t v) {
     case PixelFormat::Grey8: at[0] = uint8_t(v); break;
     case PixelFormat::Xrgb8888:
       at[0] = uint8_t(v); at[1] = uint8_t(v >> 8); at[2] = uint8_t(v >> 16); at[3] = 0; break;
-    case PixelFormat::Id32: {
-      uint32_t* word = reinterpret_cast<uint32_t*>(at);  // band rows are 4-byte aligned for Id32
-      *word = v;
-      break;
-    }
+    case PixelFormat::Id32: memcpy(at, &v, 4); break;  // native byte order
     default: break;
   }
 }
@@ -145,13 +143,77 @@ uint32_t load_pixel(PixelFormat format, const uint8_t* band, uint32_t stride, in
     case PixelFormat::Rgb565Le: return uint32_t(at[1]) << 8 | at[0];
     case PixelFormat::Grey8: return at[0];
     case PixelFormat::Xrgb8888: return uint32_t(at[2]) << 16 | uint32_t(at[1]) << 8 | at[0];
-    case PixelFormat::Id32: return *reinterpret_cast<const uint32_t*>(at);
+    case PixelFormat::Id32: {
+      uint32_t v;
+      memcpy(&v, at, 4);
+      return v;
+    }
     default: return 0;
   }
 }
 
+namespace {
+
+// Rows of whole-byte formats without dithering: one loop per format, nothing decided per pixel.
+template <typename Store>
+void put_bytes(uint8_t* at, int bytes, const Pixel* pixels, int n, Store store) {
+  for (int i = 0; i < n; ++i, at += bytes) store(at, pixels[i]);
+}
+
+// level(v, 31) and level(v, 63) for every channel value, in flash: RGB565 rows without a division.
+struct Rgb565Levels {
+  uint8_t five[256], six[256];
+  constexpr Rgb565Levels() : five(), six() {
+    for (uint32_t v = 0; v < 256; ++v) {
+      five[v] = uint8_t((v * 31 + 127) / 255);
+      six[v] = uint8_t((v * 63 + 127) / 255);
+    }
+  }
+};
+constexpr Rgb565Levels kRgb565;
+
+inline uint32_t rgb565_of(Pixel p) {
+  return uint32_t(kRgb565.five[red_of(p)]) << 11 | uint32_t(kRgb565.six[green_of(p)]) << 5 |
+         kRgb565.five[blue_of(p)];
+}
+
+bool put_row_fast(PixelFormat format, uint8_t* line, int x, const Pixel* pixels, int n) {
+  switch (format) {
+    case PixelFormat::Rgb565Be:
+      put_bytes(line + 2 * x, 2, pixels, n, [](uint8_t* at, Pixel p) {
+        const uint32_t v = rgb565_of(p);
+        at[0] = uint8_t(v >> 8);
+        at[1] = uint8_t(v);
+      });
+      return true;
+    case PixelFormat::Rgb565Le:
+      put_bytes(line + 2 * x, 2, pixels, n, [](uint8_t* at, Pixel p) {
+        const uint32_t v = rgb565_of(p);
+        at[0] = uint8_t(v);
+        at[1] = uint8_t(v >> 8);
+      });
+      return true;
+    case PixelFormat::Xrgb8888:
+      put_bytes(line + 4 * x, 4, pixels, n, [](uint8_t* at, Pixel p) {
+        at[0] = uint8_t(p);
+        at[1] = uint8_t(p >> 8);
+        at[2] = uint8_t(p >> 16);
+        at[3] = 0;
+      });
+      return true;
+    case PixelFormat::Id32:
+      memcpy(line + 4 * x, pixels, size_t(n) * 4);
+      return true;
+    default:
+      return false;
+  }
+}
+
+}  // namespace
+
 void PixelPacker::put_row(uint8_t* band, uint32_t stride, int x, int row, int frame_y, const Pixel* pixels,
                           int n) const {
+  if (!dither_ && put_row_fast(format_, band + uint32_t(row) * stride, x, pixels, n)) return;
   uint32_t stored[kChunk];
   for (int done = 0; done < n; done += kChunk) {
     const int m = n - done < kChunk ? n - done : kChunk;
@@ -161,8 +223,30 @@ void PixelPacker::put_row(uint8_t* band, uint32_t stride, int x, int row, int fr
   }
 }
 
+namespace {
+
+// A block of one stored value in a format of whole bytes a pixel: the value's bytes once, copied.
+template <int kBytes>
+void fill_bytes(uint8_t* band, uint32_t stride, int x, int row, int w, int h, const uint8_t* pattern) {
+  for (int j = 0; j < h; ++j) {
+    uint8_t* at = band + uint32_t(row + j) * stride + uint32_t(x) * kBytes;
+    for (int i = 0; i < w; ++i, at += kBytes) memcpy(at, pattern, kBytes);
+  }
+}
+
+}  // namespace
+
 void PixelPacker::fill(uint8_t* band, uint32_t stride, int x, int row, int frame_y, int w, int h,
                        Pixel value) const {
+  const int bits = format_bits_per_pixel(format_);
+  if (!dither_ && bits >= 8) {
+    uint8_t pattern[4];
+    store_aligned(format_, pattern, quantize_one(format_, value, false, 0));
+    if (bits == 8) fill_bytes<1>(band, stride, x, row, w, h, pattern);
+    else if (bits == 16) fill_bytes<2>(band, stride, x, row, w, h, pattern);
+    else fill_bytes<4>(band, stride, x, row, w, h, pattern);
+    return;
+  }
   uint32_t stored[kChunk];
   const int first = w < kChunk ? w : kChunk;
   if (!dither_) {

@@ -408,6 +408,9 @@ Status TilerFrame::draw_piece(const BspPiece& piece) {
   const bool split = is_split_piece(piece, tri);
   Vec3i world[3];
   for (int i = 0; i < 3; ++i) world[i] = split ? vertex_world(scene_, tri.batch, piece.v[i]) : whole_world[i];
+  // Outside this band: skipped before projecting (most pieces, with many bands).
+  if (band_.rows < camera_.height && triangle_outside_rows(view_, world, band_.top, band_.top + band_.rows - 1))
+    return ok_status();
   ScreenTriangle parts[kMaxClipTriangles];
   const int n = project_triangle(view_, world, facing, parts);
   writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0);

@@ -231,14 +231,8 @@ int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenT
   ClipVertex* poly = buffers[0];
   bool in_front = true;
   for (int i = 0; i < 3; ++i) {
-    const Vec3i d{world[i].x - view.eye.x, world[i].y - view.eye.y, world[i].z - view.eye.z};
-    // |d| < 2^25, so each dot product is below 2^56; the result keeps kViewFractionBits. Rounds
-    // half up (an arithmetic shift of the biased value): cheaper than symmetric rounding, as exact.
-    constexpr int shift = kUnitBits - kViewFractionBits;
-    constexpr int64_t half = int64_t(1) << (shift - 1);
-    poly[i].p = Vec3i{int32_t((dot64(view.right, d) + half) >> shift),
-                      int32_t((dot64(view.down, d) + half) >> shift),
-                      int32_t((dot64(view.forward, d) + half) >> shift)};
+    poly[i].p = Vec3i{view_coordinate(view, view.right, world[i]), view_coordinate(view, view.down, world[i]),
+                      view_coordinate(view, view.forward, world[i])};
     for (int k = 0; k < 3; ++k) poly[i].weight[k] = (i == k) ? kWeightOne : 0;
     in_front = in_front && poly[i].p.z >= view.near;
   }
@@ -287,6 +281,24 @@ int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenT
     if (orient(&t)) ++n;
   }
   return n;
+}
+
+bool triangle_outside_rows(const View& view, const Vec3i world[3], int32_t row0, int32_t row1) {
+  // Vertex i projects to y_i = center_y + focal y / z (before rounding by at most half a subpixel).
+  // Above the band: every y_i < row0 * 256, so no sample centre (row0 * 256 + 128 and below) is
+  // reached; below: every y_i > (row1 + 1) * 256. Compared as focal y + (center_y - limit) z, z > 0:
+  // |focal y| < 2^57 and |(center_y - limit) z| < 2^53, so nothing overflows.
+  const int64_t top = int64_t(view.center_y) - int64_t(row0) * kSubpixelOne;
+  const int64_t bottom = int64_t(view.center_y) - (int64_t(row1) + 1) * kSubpixelOne;
+  bool above = true, below = true;
+  for (int i = 0; i < 3; ++i) {
+    const int64_t z = view_coordinate(view, view.forward, world[i]);
+    if (z < view.near) return false;  // clipped: the projection is not the vertices' hull
+    const int64_t fy = view.focal_q8 * view_coordinate(view, view.down, world[i]);
+    above = above && fy + top * z < 0;
+    below = below && fy + bottom * z > 0;
+  }
+  return above || below;
 }
 
 void setup_triangle(const ScreenTriangle& tri, int width, int height, TriangleSetup* out) {

@@ -83,6 +83,22 @@ int project_triangle(const View& view, const Vec3i world[3], ScreenTriangle out[
 // is a piece of (BSP pieces take their original triangle's facing).
 int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenTriangle out[kMaxClipTriangles]);
 
+// One view-space coordinate (1/16 world unit) of a world point: the world→view row `axis` (Q1.30)
+// dotted with the offset from the eye. |offset| < 2^25, so the dot product stays below 2^56. Rounds
+// half up (an arithmetic shift of the biased value): cheaper than symmetric rounding, as exact.
+inline int32_t view_coordinate(const View& view, const Vec3i& axis, const Vec3i& world) {
+  constexpr int shift = kUnitBits - kViewFractionBits;
+  constexpr int64_t half = int64_t(1) << (shift - 1);
+  const Vec3i d{world.x - view.eye.x, world.y - view.eye.y, world.z - view.eye.z};
+  return int32_t((dot64(axis, d) + half) >> shift);
+}
+
+// True when the triangle certainly covers no sample centre in pixel rows row0..row1: all three
+// vertices lie in front of the near plane and project above row0 or below row1 (with a pixel of
+// margin for rounding). Costs six dot products and no division: the band renderer rejects pieces
+// outside its band with it before projecting them. False when unsure.
+bool triangle_outside_rows(const View& view, const Vec3i world[3], int32_t row0, int32_t row1);
+
 // The fill rule for an edge with E(x, y) = a x + b y + c: samples exactly on it are covered only if it
 // is a left edge (a > 0) or a top edge (a == 0, b > 0).
 inline bool is_top_left(int64_t a, int64_t b) { return a > 0 || (a == 0 && b > 0); }

@@ -7,8 +7,9 @@
 //   bench prepare default|office[:LAYERS]|tessellated[:TRIANGLES]|FILE OUT.mls
 //       compile a scene (natively, before measuring) to a blob; writes OUT.mls.camera when the scene
 //       has a suggested camera (the office scene looks down its rows)
-//   bench frame SCENE.mls tiler|scanline|zbuffer WxH AA [flat|gouraud]
-//       one frame (flat shading unless told); prints "key=value ..." statistics on stdout
+//   bench frame SCENE.mls tiler|scanline|zbuffer WxH AA [flat|gouraud] [BAND_ROWS [FORMAT]]
+//       one frame (flat shading unless told; 16-row XRGB8888 bands unless told, 0 = the whole frame
+//       as one band); prints "key=value ..." statistics on stdout
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,6 +23,7 @@
 #include <vector>
 
 #include "core/arena.h"
+#include "platform/host/format_names.h"
 #include "platform/host/scene_load.h"
 #include "render/render.h"
 #include "shade/shade.h"
@@ -33,14 +35,10 @@ namespace {
 // Counts what arrives and keeps nothing, like a display that is not there.
 class DiscardSink : public ml::Sink {
  public:
-  bool write_block(int, int, int w, int h, const ml::Pixel* pixels, int) override {
-    pixels_ += uint64_t(w) * uint64_t(h);
-    checksum_ += pixels[0];
-    return true;
-  }
-  bool fill_block(int, int, int w, int h, ml::Pixel value) override {
-    pixels_ += uint64_t(w) * uint64_t(h);
-    checksum_ += value;
+  bool flush(const ml::Flush& band) override {
+    pixels_ += uint64_t(band.width) * uint64_t(band.height);
+    checksum_ += band.bytes[0];
+    flush_ready(band.buffer);
     return true;
   }
   uint64_t pixels_ = 0;
@@ -132,7 +130,17 @@ ml::Status zbuffer_render(const ml::Scene& scene, const ml::Camera& camera, ml::
     }
     st->triangles_drawn += drawn;
   }
-  if (!sink.begin_frame(w, h) || !sink.write_block(0, 0, w, h, colour.data(), w) || !sink.end_frame())
+  // The colour buffer is XRGB8888 already: the frame leaves as one band.
+  ml::FrameInfo frame;
+  frame.width = w;
+  frame.height = h;
+  frame.band_rows = h;
+  ml::Flush all;
+  all.width = w;
+  all.height = h;
+  all.stride = uint32_t(w) * 4;
+  all.bytes = reinterpret_cast<const uint8_t*>(colour.data());
+  if (!sink.begin_frame(frame) || !sink.flush(all) || !sink.end_frame())
     return ml::error(ml::StatusCode::SinkFailed, "sink refused the frame");
   return ml::ok_status();
 }
@@ -140,7 +148,7 @@ ml::Status zbuffer_render(const ml::Scene& scene, const ml::Camera& camera, ml::
 int usage() {
   fprintf(stderr,
           "usage: bench prepare default|office[:LAYERS]|tessellated[:TRIANGLES]|FILE OUT.mls\n"
-          "       bench frame SCENE.mls tiler|scanline|zbuffer WxH AA [flat|gouraud]\n");
+          "       bench frame SCENE.mls tiler|scanline|zbuffer WxH AA [flat|gouraud] [BAND_ROWS [FORMAT]]\n");
   return 2;
 }
 
@@ -177,7 +185,7 @@ int prepare(const std::string& what, const std::string& out) {
 }
 
 int frame(const std::string& path, const std::string& renderer, const std::string& size, int aa,
-          ml::ShadingMode shading) {
+          ml::ShadingMode shading, const ml::OutputOptions& output) {
   int w = 0, h = 0;
   if (sscanf(size.c_str(), "%dx%d", &w, &h) != 2 || w < 1 || h < 1 || w > ml::kMaxScreenDim ||
       h > ml::kMaxScreenDim)
@@ -226,6 +234,7 @@ int frame(const std::string& path, const std::string& renderer, const std::strin
   else return usage();
   o.shading = shading;
   o.aa = aa;
+  o.output = output;
   const size_t bytes = ml::render_arena_bytes(scene, camera, o);
   std::vector<uint64_t> storage(bytes / 8 + 1);
   ml::Arena arena(storage.data(), bytes);
@@ -238,11 +247,11 @@ int frame(const std::string& path, const std::string& renderer, const std::strin
   }
   printf("renderer=%s size=%dx%d aa=%d triangles=%u drawn=%u culled=%u cells_visited=%llu cells_per_pixel=%.4f "
          "peak_arena_bytes=%u arena_bytes=%zu pyramid_bytes=%u shading_calls=%llu geometry_samples=%llu m_max=%u n=%u "
-         "pixel_writes=%llu sink_pixels=%llu\n",
+         "pixel_writes=%llu sink_pixels=%llu bands=%u\n",
          renderer.c_str(), w, h, aa, scene.triangle_count, stats.triangles_drawn, stats.triangles_culled,
          (unsigned long long)stats.cells_visited, double(stats.cells_visited) / pixels, stats.peak_arena_bytes, bytes,
          stats.pyramid_bytes, (unsigned long long)stats.shading_calls, (unsigned long long)stats.geometry_samples,
-         stats.m_max, stats.n, (unsigned long long)stats.pixel_writes, (unsigned long long)sink.pixels_);
+         stats.m_max, stats.n, (unsigned long long)stats.pixel_writes, (unsigned long long)sink.pixels_, stats.bands);
   return 0;
 }
 
@@ -250,13 +259,17 @@ int frame(const std::string& path, const std::string& renderer, const std::strin
 
 int main(int argc, char** argv) {
   if (argc == 4 && strcmp(argv[1], "prepare") == 0) return prepare(argv[2], argv[3]);
-  if ((argc == 6 || argc == 7) && strcmp(argv[1], "frame") == 0) {
+  if (argc >= 6 && argc <= 9 && strcmp(argv[1], "frame") == 0) {
     const int aa = atoi(argv[5]);
     if (aa < 1 || aa > 8) return usage();
     ml::ShadingMode shading = ml::ShadingMode::Flat;
-    if (argc == 7 && strcmp(argv[6], "gouraud") == 0) shading = ml::ShadingMode::Gouraud;
-    else if (argc == 7 && strcmp(argv[6], "flat") != 0) return usage();
-    return frame(argv[2], argv[3], argv[4], aa, shading);
+    if (argc >= 7 && strcmp(argv[6], "gouraud") == 0) shading = ml::ShadingMode::Gouraud;
+    else if (argc >= 7 && strcmp(argv[6], "flat") != 0) return usage();
+    ml::OutputOptions output;
+    if (argc >= 8) output.band_rows = atoi(argv[7]);
+    if (argc >= 9 && !mlhost::parse_format(argv[8], &output.format)) return usage();
+    if (output.band_rows < 0) return usage();
+    return frame(argv[2], argv[3], argv[4], aa, shading, output);
   }
   return usage();
 }
