@@ -56,4 +56,38 @@ int32_t tan_deg_q16(int32_t degrees_q16) {
   return int32_t(div_round(num << 16, den));
 }
 
+uint64_t udiv_64_32(uint64_t n, uint32_t d, uint32_t* remainder) {
+  const uint32_t hi = uint32_t(n >> 32), lo = uint32_t(n);
+  if (hi == 0) {  // one 32-bit divide
+    *remainder = lo % d;
+    return lo / d;
+  }
+  // High word first (its quotient is the result's high word), then (rest : lo) / d, where rest < d
+  // makes the quotient fit 32 bits: Knuth's algorithm D on two 16-bit digits.
+  const uint32_t q_hi = hi / d;
+  const uint32_t u1 = hi - q_hi * d;
+  const int s = __builtin_clz(d);  // normalize: top bit of the divisor set
+  const uint32_t v = d << s;
+  const uint32_t vn1 = v >> 16, vn0 = v & 0xFFFFu;
+  const uint32_t un32 = s == 0 ? u1 : (u1 << s) | (lo >> (32 - s));
+  const uint32_t un10 = lo << s;
+  const uint32_t un1 = un10 >> 16, un0 = un10 & 0xFFFFu;
+  uint32_t q1 = un32 / vn1, rhat = un32 - q1 * vn1;
+  while (q1 >= 0x10000u || q1 * vn0 > ((rhat << 16) | un1)) {
+    --q1;
+    rhat += vn1;
+    if (rhat >= 0x10000u) break;
+  }
+  const uint32_t un21 = (un32 << 16) + un1 - q1 * v;
+  uint32_t q0 = un21 / vn1;
+  rhat = un21 - q0 * vn1;
+  while (q0 >= 0x10000u || q0 * vn0 > ((rhat << 16) | un0)) {
+    --q0;
+    rhat += vn1;
+    if (rhat >= 0x10000u) break;
+  }
+  *remainder = ((un21 << 16) + un0 - q0 * v) >> s;
+  return uint64_t(q_hi) << 32 | (q1 << 16 | q0);
+}
+
 }  // namespace ml

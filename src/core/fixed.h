@@ -104,16 +104,46 @@ inline int64_t mul_shift(int64_t a, int64_t b, int s) { return shift_round(a * b
 // Q16.16 multiply: |result| must fit int32 (checked by callers through the documented ranges).
 inline int32_t mul_q16(int32_t a, int32_t b) { return int32_t(mul_shift(a, b, 16)); }
 
+// ---- division -------------------------------------------------------------------------------
+// A Cortex-M has no 64-bit divide instruction (an M3 divides 32 by 32 bits; an M0+ not at all), and
+// the compiler's 64-bit helper (__aeabi_ldivmod) costs about 70 instructions. Most of maskline's
+// divisions have a 64-bit numerator and a divisor below 2^32 (a depth, an edge coefficient), so on
+// 32-bit targets they go through udiv_64_32: exact, with three 32-bit divides at most. The results
+// are the native division's, bit for bit (property-tested on the host against it).
+
+// floor(n / d) and n mod d for d != 0, from 32-bit divides (Hacker's Delight, divlu, with 16-bit digits).
+uint64_t udiv_64_32(uint64_t n, uint32_t d, uint32_t* remainder);
+
+// floor(n / d) for d != 0, and the remainder when asked.
+inline uint64_t udiv64(uint64_t n, uint64_t d, uint64_t* remainder = nullptr) {
+#if UINTPTR_MAX == 0xFFFFFFFFu  // 32-bit target: no 64-bit divide instruction
+  if (d <= 0xFFFFFFFFu) {
+    uint32_t r32;
+    const uint64_t q = udiv_64_32(n, uint32_t(d), &r32);
+    if (remainder) *remainder = r32;
+    return q;
+  }
+#endif
+  if (remainder) *remainder = n % d;
+  return n / d;
+}
+
+// |v| as an unsigned value (exact for INT64_MIN too).
+inline uint64_t magnitude(int64_t v) { return v < 0 ? uint64_t(0) - uint64_t(v) : uint64_t(v); }
+
 // Division rounding to nearest, ties away from zero. d != 0.
 inline int64_t div_round(int64_t n, int64_t d) {
-  if (d < 0) { n = -n; d = -d; }
-  return n >= 0 ? (n + d / 2) / d : -((-n + d / 2) / d);
+  const uint64_t ud = magnitude(d);
+  const uint64_t q = udiv64(magnitude(n) + ud / 2, ud);
+  return int64_t((n < 0) != (d < 0) ? uint64_t(0) - q : q);  // unsigned negation: exact for 2^63
 }
 
 // Floor division (rounds toward minus infinity). d > 0.
 inline int64_t div_floor(int64_t n, int64_t d) {
-  int64_t q = n / d;
-  return (n % d != 0 && n < 0) ? q - 1 : q;
+  if (n >= 0) return int64_t(udiv64(uint64_t(n), uint64_t(d)));
+  uint64_t r;
+  const uint64_t q = udiv64(magnitude(n), uint64_t(d), &r);
+  return int64_t(uint64_t(0) - q - (r != 0 ? 1 : 0));
 }
 
 // Reciprocal 2^bits / d rounded, for d > 0, bits <= 62.

@@ -78,14 +78,10 @@ int clip_polygon(const View& view, ClipPlane plane, const ClipVertex* in, int co
   return n;
 }
 
-// Division rounding to nearest for a positive divisor (the depth z of a vertex in front).
-inline int64_t div_round_positive(int64_t n, int64_t d) {
-  return n >= 0 ? (n + d / 2) / d : -((d / 2 - n) / d);
-}
-
 // Screen position offset from the centre, in subpixels, before any range check (|result| < 2^57).
+// z > 0 (in front): a divisor below 2^31, so no 64-bit division on a 32-bit board (core/fixed.h).
 inline int64_t project_offset(const View& view, int32_t c, int32_t z) {
-  return div_round_positive(view.focal_q8 * c, z);
+  return div_round(view.focal_q8 * c, z);
 }
 
 ScreenVertex make_screen_vertex(const View& view, const ClipVertex& c, int64_t offset_x, int64_t offset_y) {
@@ -93,7 +89,7 @@ ScreenVertex make_screen_vertex(const View& view, const ClipVertex& c, int64_t o
   s.x = int32_t(view.center_x + offset_x);
   s.y = int32_t(view.center_y + offset_y);
   s.z = c.p.z;
-  s.depth = uint32_t((int64_t(view.near) << kDepthBits) / c.p.z);
+  s.depth = uint32_t(udiv64(uint64_t(view.near) << kDepthBits, uint64_t(c.p.z)));
   for (int k = 0; k < 3; ++k) s.weight[k] = c.weight[k];
   return s;
 }

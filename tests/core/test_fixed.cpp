@@ -122,4 +122,52 @@ TEST(ArenaAllocation, AlignsTracksPeakAndReportsNeed) {
   EXPECT_EQ(arena.used(), mark);
 }
 
+// The 32-bit boards' division (udiv_64_32, three 32-bit divides) equals the native 64-bit one for
+// every kind of operand: small and huge numerators, divisors of every width, the normalization
+// shifts' extremes and the quotient-digit corrections of the long division.
+TEST(FixedDivision, SixtyFourByThirtyTwoEqualsNativeDivision) {
+  std::mt19937_64 rng(99);
+  auto check = [](uint64_t n, uint32_t d) {
+    uint32_t r = 0;
+    const uint64_t q = ml::udiv_64_32(n, d, &r);
+    ASSERT_EQ(q, n / d) << n << " / " << d;
+    ASSERT_EQ(r, n % d) << n << " % " << d;
+  };
+  const uint64_t edges[] = {0, 1, 2, 0xFFFFu, 0x10000u, 0xFFFFFFFFu, 0x100000000ull, 0x7FFFFFFFFFFFFFFFull,
+                            0x8000000000000000ull, 0xFFFFFFFFFFFFFFFFull, 0xFFFFFFFF00000000ull, 0x00000001FFFFFFFFull};
+  const uint32_t divisors[] = {1, 2, 3, 7, 0xFFFFu, 0x10000u, 0x10001u, 0x7FFFFFFFu, 0x80000000u, 0xFFFFFFFFu, 0x80000001u};
+  for (uint64_t n : edges)
+    for (uint32_t d : divisors) check(n, d);
+  for (int i = 0; i < 2000000; ++i) {
+    const uint64_t n = rng() >> (rng() % 64);
+    uint32_t d = uint32_t(rng() >> (32 + rng() % 32));
+    if (d == 0) d = 1;
+    check(n, d);
+    // Numerators just below a multiple of the divisor, where the digit estimates overshoot.
+    const uint64_t m = n / d * d;
+    if (m > 0) check(m - 1, d);
+    check(m, d);
+  }
+}
+
+TEST(FixedDivision, RoundingAndFloorDivisionMatchTheirDefinitions) {
+  std::mt19937_64 rng(7);
+  for (int i = 0; i < 200000; ++i) {
+    const int64_t n = int64_t(rng() >> (1 + rng() % 63)) * ((rng() & 1) ? -1 : 1);
+    int64_t d = int64_t(rng() >> (33 + rng() % 31)) * ((rng() & 1) ? -1 : 1);
+    if (d == 0) d = 3;
+    const long double exact = (long double)n / (long double)d;
+    const int64_t q = ml::div_round(n, d);
+    ASSERT_LE(std::fabs((long double)q - exact), 0.5L + 1e-9L) << n << " / " << d;
+    if (d > 0) {
+      const int64_t f = ml::div_floor(n, d);
+      ASSERT_TRUE((__int128)f * d <= n && (__int128)(f + 1) * d > n) << n << " / " << d;
+    }
+  }
+  EXPECT_EQ(ml::div_round(-5, 2), -3);  // ties away from zero
+  EXPECT_EQ(ml::div_round(5, -2), -3);
+  EXPECT_EQ(ml::div_floor(-5, 2), -3);
+  EXPECT_EQ(ml::div_floor(INT64_MIN, 1), INT64_MIN);
+}
+
 }  // namespace
