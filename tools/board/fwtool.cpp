@@ -4,6 +4,7 @@
 //   fwtool config [render options] [--scene S.mls] -o CONFIG.h    the firmware's compiled-in options
 //   fwtool ref SCENE.mls [render options] -o OUT.raw [--stats]    the host's packed band bytes
 //   fwtool topng RAW --size WxH --format F -o OUT.png [--zoom N]  packed bytes -> PNG
+//   fwtool crc FILE                                               CRC-32 of a file (as ml::crc32), 0x%08x
 //   fwtool same A B                                               two pictures (PNG or PPM) pixel for pixel
 //
 // Render options (as `maskline render`): --renderer tiler|scanline --size WxH --format rgb565|grey4|...
@@ -336,7 +337,17 @@ int cmd_same(const Options& o) {
            a[first] & 0xFFFFFF, b[first] & 0xFFFFFF);
     return 1;
   }
-  printf("same: %dx%d, %zu pixels\n", wa, ha, a.size());
+  std::vector<uint32_t> colours(a);
+  std::sort(colours.begin(), colours.end());
+  const size_t distinct = size_t(std::unique(colours.begin(), colours.end()) - colours.begin());
+  printf("same: %dx%d, %zu pixels, %zu colours\n", wa, ha, a.size(), distinct);
+  return 0;
+}
+
+int cmd_crc(const Options& o) {
+  if (o.positional.size() != 1) die("usage: fwtool crc FILE", 2);
+  const std::vector<uint8_t> d = read_file(o.positional[0]);
+  printf("0x%08x\n", unsigned(ml::crc32(d.data(), d.size())));
   return 0;
 }
 
@@ -351,5 +362,6 @@ int main(int argc, char** argv) {
   if (cmd == "ref") return cmd_ref(o);
   if (cmd == "topng") return cmd_topng(o);
   if (cmd == "same") return cmd_same(o);
+  if (cmd == "crc") return cmd_crc(o);
   die("unknown command " + cmd, 2);
 }

@@ -4,6 +4,11 @@ namespace fw {
 namespace {
 
 inline volatile uint32_t& reg(uint32_t address) { return *reinterpret_cast<volatile uint32_t*>(address); }
+// A read for its side effect (popping the RX FIFO) or its delay.
+inline void touch(uint32_t address) {
+  const uint32_t value = reg(address);
+  (void)value;
+}
 
 constexpr uint32_t kRcgc1 = 0x400FE104, kRcgc2 = 0x400FE108;
 constexpr uint32_t kGpioA = 0x40004000, kGpioC = 0x40006000, kGpioD = 0x40007000;
@@ -16,7 +21,7 @@ constexpr uint32_t kSrTnf = 1u << 1, kSrRne = 1u << 2, kSrBsy = 1u << 4;
 inline void gpio_write(uint32_t base, uint32_t pin_mask, bool high) { reg(base + (pin_mask << 2)) = high ? pin_mask : 0; }
 
 inline void drain_rx() {
-  while (reg(kSsi0 + kSsiSr) & kSrRne) (void)reg(kSsi0 + kSsiDr);
+  while (reg(kSsi0 + kSsiSr) & kSrRne) touch(kSsi0 + kSsiDr);
 }
 
 inline void wait_idle() {
@@ -29,8 +34,8 @@ inline void wait_idle() {
 void SsiTransport::init() {
   reg(kRcgc1) |= 1u << 4;                            // SSI0
   reg(kRcgc2) |= (1u << 0) | (1u << 2) | (1u << 3);  // GPIO A, C, D
-  (void)reg(kRcgc2);                                 // a few cycles before the peripherals are touched
-  (void)reg(kRcgc2);
+  touch(kRcgc2);                                 // a few cycles before the peripherals are touched
+  touch(kRcgc2);
   const uint32_t ssi_pins = (1u << 2) | (1u << 3) | (1u << 5);  // PA2 clock, PA3 frame, PA5 TX
   reg(kGpioA + kGpioAfsel) |= ssi_pins;
   reg(kGpioA + kGpioDen) |= ssi_pins;
