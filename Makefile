@@ -27,7 +27,7 @@ SCENEC_SRC:= $(shell find tools/scenec -name '*.cpp' 2>/dev/null | sort)
 HOST_SRC  := $(filter-out platform/host/main.cpp,$(shell find platform/host platform/panels platform/linux -name '*.cpp' 2>/dev/null | sort))
 TEST_SRC  := $(shell find tests -name '*.cpp' -not -path 'tests/fuzz/*' -not -path 'tests/qemu-fbdev/*' 2>/dev/null | sort)
 MASKGEN_SRC := $(shell find tools/maskgen -name '*.cpp' 2>/dev/null | sort)
-BENCH_SRC := $(shell find tools/bench -name '*.cpp' 2>/dev/null | sort)
+BENCH_SRC := $(shell find tools/bench -name '*.cpp' -not -path 'tools/bench/sort/*' 2>/dev/null | sort)
 
 HOST_LIBS := -lpng -lgpiod
 
@@ -91,6 +91,10 @@ $(BUILD)/san/maskline: $(BUILD)/san/obj/platform/host/main.o $(HOST_SOBJ) $(SCEN
 # benchmark driver (tools/bench): one frame under callgrind, plus the z-buffer baseline
 $(BUILD)/bench: $(call rel,$(BENCH_SRC)) $(HOST_OBJ) $(SCENEC_OBJ) $(BUILD)/libmaskline.a
 	$(CXX) $(OPT) -o $@ $^ $(HOST_LIBS)
+
+# sort_bench: instructions of the scanline renderer's active-list sorts (docs/scanline.md)
+$(BUILD)/sort_bench: $(call rel,tools/bench/sort/sort_bench.cpp)
+	$(CXX) $(OPT) -o $@ $^
 
 $(BUILD)/maskgen: $(call rel,$(MASKGEN_SRC))
 	$(CXX) $(OPT) -o $@ $^
@@ -207,7 +211,7 @@ demo: all
 	@bash tools/demo.sh $(BUILD)
 
 bench: all
-	@$(MAKE) --no-print-directory $(BUILD)/bench
+	@$(MAKE) --no-print-directory $(BUILD)/bench $(BUILD)/sort_bench
 	@bash tools/bench/run.sh $(BUILD)
 
 clean:

@@ -14,6 +14,7 @@ packages=(
   libgpiod-dev          # SPI panel reset/data-command lines
   assimp-testmodels     # real glTF 2.0 inputs, good and broken
   valgrind              # instruction counts for benchmarks
+  time                  # peak resident memory in the benchmarks
   clang                 # libFuzzer target for the blob reader
   zlib1g-dev            # static CLI build for the QEMU framebuffer test (libpng needs zlib)
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib  # Cortex-M builds of src/

@@ -28,6 +28,27 @@ if [ -f "$engine" ]; then
 else
   echo "== 2CylinderEngine skipped: $engine not installed (Debian package assimp-testmodels)"
 fi
+
+# The emulated panels decode the exact bytes each panel would receive on its bus.
+show() {
+  local label=$1
+  shift
+  echo "== $label"
+  "$cli" show "$@" --stats
+}
+show "bundled scene on an emulated ILI9341 (320x240 landscape, RGB565 over SPI)" --display emu:ili9341 \
+  --size 320x240 -o "$out/panel-ili9341.png"
+show "bundled scene on an emulated SSD0323 OLED (128x64, 4-bit grey, dithered), shown 4x" --display emu:ssd0323 \
+  --zoom 4 -o "$out/panel-ssd0323.png"
+show "bundled scene on an emulated SSD1306 OLED (128x64, 1 bit, dithered), shown 4x" --display emu:ssd1306 \
+  --background 000000 --zoom 4 -o "$out/panel-ssd1306.png"
+if [ -f "$engine" ]; then
+  show "2CylinderEngine on an emulated ST7789 (240x240), scanline 3x3" "$engine" --display emu:st7789-240 \
+    --renderer scanline --aa 3 -o "$out/panel-st7789-engine.png"
+fi
+echo "== the bundled scene turning on the emulated ILI9341 (12 frames, 30 degrees a frame)"
+"$cli" show --display emu:ili9341 --size 320x240 --frames 12 --orbit 30 -o "$out/orbit-%02d.png" | tail -2
+
 echo
 echo "pictures in $(cd "$out" && pwd)/:"
 ls -1 "$out"/*.png | sed 's/^/  /'

@@ -127,3 +127,5 @@ else
   printf '# Benchmarks\n\n%s\n' "$section" >>"$doc"
 fi
 echo "bench: table written to $doc"
+bash tools/bench/bands.sh "$build" "$work"
+echo "bench: display tables written to $doc"

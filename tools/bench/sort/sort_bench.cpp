@@ -8,6 +8,10 @@
 #include "scanline/sort.h"
 
 int main(int argc, char** argv) {
+  if (argc != 5) {
+    std::fprintf(stderr, "usage: sort_bench none|insertion|heap N REPS random|near\n");
+    return 2;
+  }
   const char* alg = argv[1];
   const uint32_t n = uint32_t(std::atoi(argv[2])), reps = uint32_t(std::atoi(argv[3]));
   const bool near = std::strcmp(argv[4], "near") == 0;
