@@ -134,7 +134,7 @@ fwo = $(patsubst %.cpp,$(FW)/obj/$(2)/%.o,$(1))
 # Scenes in flash: the bundled default (mps2-an385, 4 MB) and, for the 256 KB boards, one row of
 # Greene's office rooms (1,100 triangles, 119 KB; FW_SMALL_SCENE).
 FW_SMALL_SCENE ?= office:1
-FW_ELFS := $(FW)/mps2-an385.elf $(FW)/lm3s6965evb-tiler.elf $(FW)/lm3s6965evb-scanline.elf $(FW)/m0plus.elf
+FW_ELFS := $(FW)/mps2-an385.elf $(FW)/mps2-an385-calls.elf $(FW)/lm3s6965evb-tiler.elf $(FW)/lm3s6965evb-scanline.elf $(FW)/m0plus.elf
 
 $(FW)/obj/m3/%.o: %.cpp
 	@mkdir -p $(dir $@)
@@ -158,14 +158,22 @@ $(FW)/scenes/small.mls: | $(FW)/fwtool
 	$(FW)/fwtool scene $(FW_SMALL_SCENE) -o $@
 
 # One firmware image: board main compiled with a configuration header, the scene blob, startup and
-# the core. $(1) elf, $(2) cpu, $(3) main source, $(4) config header, $(5) scene, $(6) memory.ld, $(7) extra objects
+# the core. $(1) elf, $(2) cpu, $(3) main source, $(4) config header, $(5) scene, $(6) memory.ld,
+# $(7) extra sources, $(8) extra flags (main compile and link)
 define fw_image
 $(1): $(3) $(4) $(5) $(6) platform/cortex-m/common/scene_blob.S $(call fwo,$(FW_COMMON) $(7),$(2)) $(FW)/obj/$(2)/libmaskline.a $(wildcard src/*/*.h platform/panels/*.h platform/cortex-m/*/*.h platform/cortex-m/common/*.ld)
 	@mkdir -p $$(dir $$@)
-	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_$(2)) -include $(4) -c $(3) -o $$(basename $$@)-main.o
+	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_$(2)) $(8) -include $(4) -c $(3) -o $$(basename $$@)-main.o
 	$(ARM_CXX) $(FW_CPU_$(2)) -DFW_SCENE_FILE='"$(5)"' -c platform/cortex-m/common/scene_blob.S -o $$(basename $$@)-scene.o
-	$(ARM_CXX) $(FW_CPU_$(2)) $(FW_LD) -T $(6) -Wl,-Map=$$(basename $$@).map -o $$@ $$(basename $$@)-main.o $$(basename $$@)-scene.o $(call fwo,$(FW_COMMON) $(7),$(2)) $(FW)/obj/$(2)/libmaskline.a
+	$(ARM_CXX) $(FW_CPU_$(2)) $(FW_LD) $(8) -T $(6) -Wl,-Map=$$(basename $$@).map -o $$@ $$(basename $$@)-main.o $$(basename $$@)-scene.o $(call fwo,$(FW_COMMON) $(7),$(2)) $(FW)/obj/$(2)/libmaskline.a
 endef
+$(FW)/obj/m3/%.o: %.S
+	@mkdir -p $(dir $@)
+	$(ARM_CXX) $(FW_CPU_m3) -c $< -o $@
+# mps2-an385-calls: the mps2 firmware with the core's calls to these runtime helpers counted
+FW_COUNTED := __aeabi_ldivmod __aeabi_uldivmod __ctzdi2
+fw_comma := ,
+FW_WRAP := -DFW_COUNT_CALLS $(foreach f,$(FW_COUNTED),-Wl$(fw_comma)--wrap=$(f))
 
 $(FW)/config/%.h: | $(FW)/fwtool
 	@mkdir -p $(dir $@)
@@ -176,6 +184,7 @@ FW_CONFIG_ARGS_lm3s-scanline := --size 128x64 --format grey4 --renderer scanline
 FW_CONFIG_ARGS_m0plus := --size 128x64 --format grey4 --renderer tiler
 
 $(eval $(call fw_image,$(FW)/mps2-an385.elf,m3,platform/cortex-m/mps2-an385/main.cpp,$(FW)/config/mps2.h,$(FW)/scenes/default.mls,platform/cortex-m/mps2-an385/memory.ld,))
+$(eval $(call fw_image,$(FW)/mps2-an385-calls.elf,m3,platform/cortex-m/mps2-an385/main.cpp,$(FW)/config/mps2.h,$(FW)/scenes/default.mls,platform/cortex-m/mps2-an385/memory.ld,$(FW)/obj/m3/platform/cortex-m/common/call_count.o,$(FW_WRAP)))
 $(eval $(call fw_image,$(FW)/lm3s6965evb-tiler.elf,m3,platform/cortex-m/lm3s6965evb/main.cpp,$(FW)/config/lm3s-tiler.h,$(FW)/scenes/small.mls,platform/cortex-m/lm3s6965evb/memory.ld,$(FW_PANELS) platform/cortex-m/lm3s6965evb/ssi_transport.cpp))
 $(eval $(call fw_image,$(FW)/lm3s6965evb-scanline.elf,m3,platform/cortex-m/lm3s6965evb/main.cpp,$(FW)/config/lm3s-scanline.h,$(FW)/scenes/small.mls,platform/cortex-m/lm3s6965evb/memory.ld,$(FW_PANELS) platform/cortex-m/lm3s6965evb/ssi_transport.cpp))
 $(eval $(call fw_image,$(FW)/m0plus.elf,m0,platform/cortex-m/m0plus/main.cpp,$(FW)/config/m0plus.h,$(FW)/scenes/small.mls,platform/cortex-m/m0plus/memory.ld,))

@@ -37,6 +37,26 @@ class SemihostFileSink : public ml::Sink {
   uint32_t row_bytes_ = 0;
 };
 
+#ifdef FW_COUNT_CALLS
+// Counters of common/call_count.S (this image links the core with -Wl,--wrap for these helpers).
+extern "C" volatile uint32_t fw_calls___aeabi_ldivmod, fw_calls___aeabi_uldivmod, fw_calls___ctzdi2;
+struct Calls {
+  uint32_t ldivmod, uldivmod, ctzdi2;
+};
+Calls calls_now() { return Calls{fw_calls___aeabi_ldivmod, fw_calls___aeabi_uldivmod, fw_calls___ctzdi2}; }
+void print_calls(ml::RendererKind k, const Calls& a, const Calls& b) {
+  fw::print("calls ");
+  fw::print(fw::renderer_name(k));
+  fw::print(" __aeabi_ldivmod ");
+  fw::print_u64(b.ldivmod - a.ldivmod);
+  fw::print(" __aeabi_uldivmod ");
+  fw::print_u64(b.uldivmod - a.uldivmod);
+  fw::print(" __ctzdi2 ");
+  fw::print_u64(b.ctzdi2 - a.ctzdi2);
+  fw::print("\n");
+}
+#endif
+
 }  // namespace
 
 int main() {
@@ -54,7 +74,13 @@ int main() {
                  ml::render_arena_bytes(scene, camera, o));
     ml::Stats stats;
     fw::NullSink null_sink;
+#ifdef FW_COUNT_CALLS
+    const Calls before = calls_now();
+#endif
     const uint64_t instructions = fw::render_frame(scene, camera, o, null_sink, &stats, kInstructionsPerTick);
+#ifdef FW_COUNT_CALLS
+    print_calls(k, before, calls_now());
+#endif
     if (instructions == 0) {
       ok = false;
       continue;
