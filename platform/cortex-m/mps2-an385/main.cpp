@@ -63,7 +63,9 @@ int main() {
   fw::ticks_start();
   fw::print("firmware: mps2-an385, cortex-m3\n");
   ml::Scene scene;
+  const uint64_t load_start = fw::ticks_now();
   if (!fw::load_scene(&scene)) return 1;
+  fw::print_kv("scene_load instructions", (fw::ticks_now() - load_start) * kInstructionsPerTick);
   const ml::Camera camera = fw::camera_for(scene);
   bool ok = true;
   const ml::RendererKind kinds[2] = {ml::RendererKind::Tiler, ml::RendererKind::Scanline};
