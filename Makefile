@@ -5,6 +5,7 @@
 #   make tables   regenerate tables/ from tools/maskgen
 #   make fuzz     run the blob-reader fuzzer for a minute
 #   make bench    instruction counts (callgrind) for both renderers against a z-buffer baseline
+#   make firmware Cortex-M firmware images for QEMU boards into build/firmware/ (docs/firmware.md)
 
 BUILD   ?= build
 CXX     ?= g++

@@ -76,7 +76,8 @@ for r in tiler scanline; do
   name="lm3s-$r-oled"
   dir="$run/lm3s-$r"
   mkdir -p "$dir"
-  sock="$dir/qmp.sock"
+  sockdir=$(mktemp -d /tmp/maskline-qmp.XXXXXX)  # a short path: unix socket names are limited to 107 bytes
+  sock="$sockdir/qmp.sock"
   timeout "$limit" qemu-system-arm -M lm3s6965evb -display none "${qemu_semihosting[@]}" \
     -kernel "$fw/lm3s6965evb-$r.elf" -qmp "unix:$sock,server=on,wait=off" >"$dir/out.txt" 2>"$dir/err.txt" &
   pid=$!
@@ -91,6 +92,7 @@ for r in tiler scanline; do
   fi
   kill $pid 2>/dev/null
   wait $pid 2>/dev/null
+  rm -rf "$sockdir"
   if [ $shown -eq 0 ] || [ ! -s "$dir/oled.ppm" ]; then
     not_ok "$name" "no frame shown or no screendump ($(tail -1 "$dir/out.txt" 2>/dev/null))"
     continue
