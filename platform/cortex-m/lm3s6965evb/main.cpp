@@ -30,7 +30,7 @@ int main() {
     fw::print("firmware: the configured size is not the panel's\n");
     return 1;
   }
-  static fw::SsiTransport transport;
+  fw::SsiTransport transport;
   transport.init();
   mlpanels::PanelSink sink(panel, transport, 0);
   if (!sink.init()) {
