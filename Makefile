@@ -185,7 +185,7 @@ FW_CONFIG_ARGS_lm3s-scanline := --size 128x64 --format grey4 --renderer scanline
 FW_CONFIG_ARGS_m0plus := --size 128x64 --format grey4 --renderer tiler
 
 $(eval $(call fw_image,$(FW)/mps2-an385.elf,m3,platform/cortex-m/mps2-an385/main.cpp,$(FW)/config/mps2.h,$(FW)/scenes/default.mls,platform/cortex-m/mps2-an385/memory.ld,))
-$(eval $(call fw_image,$(FW)/mps2-an385-calls.elf,m3,platform/cortex-m/mps2-an385/main.cpp,$(FW)/config/mps2.h,$(FW)/scenes/default.mls,platform/cortex-m/mps2-an385/memory.ld,$(FW)/obj/m3/platform/cortex-m/common/call_count.o,$(FW_WRAP)))
+$(eval $(call fw_image,$(FW)/mps2-an385-calls.elf,m3,platform/cortex-m/mps2-an385/main.cpp,$(FW)/config/mps2.h,$(FW)/scenes/default.mls,platform/cortex-m/mps2-an385/memory.ld,$(FW)/obj/m3/platform/cortex-m/common/call_shims.o platform/cortex-m/common/call_count.cpp,$(FW_WRAP)))
 $(eval $(call fw_image,$(FW)/lm3s6965evb-tiler.elf,m3,platform/cortex-m/lm3s6965evb/main.cpp,$(FW)/config/lm3s-tiler.h,$(FW)/scenes/small.mls,platform/cortex-m/lm3s6965evb/memory.ld,$(FW_PANELS) platform/cortex-m/lm3s6965evb/ssi_transport.cpp))
 $(eval $(call fw_image,$(FW)/lm3s6965evb-scanline.elf,m3,platform/cortex-m/lm3s6965evb/main.cpp,$(FW)/config/lm3s-scanline.h,$(FW)/scenes/small.mls,platform/cortex-m/lm3s6965evb/memory.ld,$(FW_PANELS) platform/cortex-m/lm3s6965evb/ssi_transport.cpp))
 $(eval $(call fw_image,$(FW)/m0plus.elf,m0,platform/cortex-m/m0plus/main.cpp,$(FW)/config/m0plus.h,$(FW)/scenes/small.mls,platform/cortex-m/m0plus/memory.ld,))

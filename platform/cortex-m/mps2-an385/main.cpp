@@ -5,6 +5,9 @@
 // the frame's stats and the memory use, then exits (status 0 when every frame rendered).
 #include "platform/cortex-m/common/app.h"
 #include "core/pixel_format.h"
+#ifdef FW_COUNT_CALLS
+#include "platform/cortex-m/common/call_count.h"
+#endif
 
 namespace {
 
@@ -38,22 +41,49 @@ class SemihostFileSink : public ml::Sink {
 };
 
 #ifdef FW_COUNT_CALLS
-// Counters of common/call_count.S (this image links the core with -Wl,--wrap for these helpers).
-extern "C" volatile uint32_t fw_calls___aeabi_ldivmod, fw_calls___aeabi_uldivmod, fw_calls___ctzdi2;
-struct Calls {
-  uint32_t ldivmod, uldivmod, ctzdi2;
-};
-Calls calls_now() { return Calls{fw_calls___aeabi_ldivmod, fw_calls___aeabi_uldivmod, fw_calls___ctzdi2}; }
-void print_calls(ml::RendererKind k, const Calls& a, const Calls& b) {
-  fw::print("calls ");
-  fw::print(fw::renderer_name(k));
-  fw::print(" __aeabi_ldivmod ");
-  fw::print_u64(b.ldivmod - a.ldivmod);
-  fw::print(" __aeabi_uldivmod ");
-  fw::print_u64(b.uldivmod - a.uldivmod);
-  fw::print(" __ctzdi2 ");
-  fw::print_u64(b.ctzdi2 - a.ctzdi2);
-  fw::print("\n");
+// Lines "calls RENDERER HELPER N" and "caller RENDERER HELPER ADDRESS N" (return addresses; map them
+// to functions with arm-none-eabi-addr2line -f -C -e mps2-an385-calls.elf).
+void print_calls(ml::RendererKind k) {
+  const fw::CallCounts& c = fw::call_counts();
+  for (int h = 0; h < fw::kCountedHelpers; ++h) {
+    fw::print("calls ");
+    fw::print(fw::renderer_name(k));
+    fw::print(" ");
+    fw::print(fw::kCountedNames[h]);
+    fw::print(" ");
+    fw::print_u64(c.total[h]);
+    fw::print("\n");
+    for (const fw::CallSite& site : c.sites[h]) {
+      if (site.count == 0) break;
+      fw::print("caller ");
+      fw::print(fw::renderer_name(k));
+      fw::print(" ");
+      fw::print(fw::kCountedNames[h]);
+      fw::print(" ");
+      fw::print_hex32(site.address);
+      fw::print(" ");
+      fw::print_u64(site.count);
+      fw::print("\n");
+    }
+  }
+}
+#endif
+
+#ifndef FW_COUNT_CALLS
+// Instructions of one 64-bit signed division through __aeabi_ldivmod, with operands shaped like the
+// projection's (a ~2^40 numerator, a ~2^20 divisor): a loop of divisions minus the same loop with an
+// addition instead.
+uint64_t ldivmod_instructions() {
+  constexpr int kCalls = 4096;
+  volatile int64_t n = (int64_t(123456789) << 10) + 77, d = (int64_t(1) << 20) + 12345;
+  volatile int64_t sink = 0;
+  const uint64_t t0 = fw::ticks_now();
+  for (int i = 0; i < kCalls; ++i) sink = sink + n / (d + i);
+  const uint64_t t1 = fw::ticks_now();
+  for (int i = 0; i < kCalls; ++i) sink = sink + n + (d + i);
+  const uint64_t t2 = fw::ticks_now();
+  const uint64_t with = (t1 - t0) * kInstructionsPerTick, without = (t2 - t1) * kInstructionsPerTick;
+  return with > without ? (with - without + kCalls / 2) / kCalls : 0;
 }
 #endif
 
@@ -77,11 +107,11 @@ int main() {
     ml::Stats stats;
     fw::NullSink null_sink;
 #ifdef FW_COUNT_CALLS
-    const Calls before = calls_now();
+    fw::reset_call_counts();
 #endif
     const uint64_t instructions = fw::render_frame(scene, camera, o, null_sink, &stats, kInstructionsPerTick);
 #ifdef FW_COUNT_CALLS
-    print_calls(k, before, calls_now());
+    print_calls(k);
 #endif
     if (instructions == 0) {
       ok = false;
@@ -109,6 +139,9 @@ int main() {
     fw::print("\n");
     fw::print_stats(k, stats, instructions);
   }
+#ifndef FW_COUNT_CALLS
+  fw::print_kv("ldivmod instructions_per_call", ldivmod_instructions());
+#endif
   fw::print_memory();
   return ok ? 0 : 1;
 }
