@@ -117,7 +117,7 @@ $(BUILD)/qemu-fbdev/fb_check: $(BUILD)/obj/tests/qemu-fbdev/fb_check.o $(BUILD)/
 $(BUILD)/qemu-fbdev/maskline: $(BUILD)/obj/platform/host/main.o $(HOST_OBJ) $(SCENEC_OBJ) $(BUILD)/libmaskline.a
 	@mkdir -p $(dir $@)
 	$(CXX) $(OPT) -static -o $@ $^ $(HOST_LIBS) -lz -lm
-QEMU_FB := $(BUILD)/qemu-fbdev/fb_pattern $(BUILD)/qemu-fbdev/fb_check
+QEMU_FB := $(BUILD)/qemu-fbdev/fb_pattern $(BUILD)/qemu-fbdev/fb_check $(BUILD)/qemu-fbdev/maskline
 
 # ---- firmware (platform/cortex-m, docs/firmware.md): Cortex-M ELF files in build/firmware/ ----
 # ARM objects live in build/firmware/obj/<cpu>/; the host helper build/firmware/fwtool makes the scene

@@ -95,8 +95,7 @@ bool ImageSink::flush(const ml::Flush& b) {
       if (writes_[at]++ == 0) --unwritten_;
     }
   pixel_writes_ += uint64_t(b.width) * uint64_t(b.height);
-  counters.bytes += uint64_t(ml::format_band_bytes(frame_.format, b.width, b.height));
-  ++counters.windows;
+  counters.bytes += uint64_t(ml::format_band_bytes(frame_.format, b.width, b.height));  // no windows: memory
   // The bytes are ours until flush_ready: poison them so a pixel skipped next time shows.
   const int unit = ml::format_row_unit(frame_.format);
   memset(const_cast<uint8_t*>(b.bytes), kPoisonByte, size_t(b.stride) * size_t((b.height + unit - 1) / unit));

@@ -84,8 +84,7 @@ bool PngStreamSink::flush(const ml::Flush& band) {
     if (!png_call(png_, [&] { png_write_row(png_of(png_), row_.data()); }))
       return fail("cannot write " + path_ + ": libpng error");
   }
-  counters.bytes += ml::format_band_bytes(format, band.width, band.height);
-  ++counters.windows;
+  counters.bytes += ml::format_band_bytes(format, band.width, band.height);  // no windows: a file
   return true;
 }
 

@@ -8,7 +8,8 @@
 //   begin_frame(frame) once; then flush() of consecutive bands top to bottom, each the full frame
 //   width and `band_rows` rows high (the last band may be lower), so every pixel leaves exactly once
 //   and a panel needs one address window per band; then end_frame() once, after every lent buffer
-//   has been given back. A sink returning false aborts the render with StatusCode::SinkFailed.
+//   has been given back. A sink returning false aborts the render with StatusCode::SinkFailed (then
+//   end_frame is not called; the sink may have shown part of the frame).
 //
 // Buffer lending: the bytes of a flush belong to the sink from the flush() call until the sink calls
 // flush_ready(f.buffer): inside flush() (a synchronous sink: copy or send, then release) or later,
@@ -64,7 +65,8 @@ struct Flush {
 // begin_frame and copies them into Stats::display_bytes and display_windows.
 struct DisplayCounters {
   uint64_t bytes = 0;     // bytes on the bus or into the framebuffer, commands included
-  uint32_t windows = 0;   // address-window commands (CASET/RASET pairs, SSD column/page windows)
+  uint32_t windows = 0;   // address-window commands (CASET/RASET pairs, SSD column/page windows);
+                          // 0 for memory: framebuffers, files, images
 };
 
 constexpr int kMaxBandBuffers = 2;
@@ -87,7 +89,7 @@ class Sink {
   void flush_ready(int buffer) {
     if (buffer >= 0 && buffer < kMaxBandBuffers) lent_[buffer] = 0;
   }
-  bool lent(int buffer) const { return lent_[buffer] != 0; }
+  bool lent(int buffer) const { return buffer >= 0 && buffer < kMaxBandBuffers && lent_[buffer] != 0; }
   // Marks a buffer lent just before the renderer flushes it.
   void lend(int buffer) { lent_[buffer] = 1; }
 

@@ -94,9 +94,15 @@ TEST_P(PanelRender, PictureIsTheQuantizedFrame) {
   o.renderer = c.renderer;
   o.output.format = f;
   o.output.dither = false;
-  for (int buffers : {1, 2}) {
+  // One buffer and 16-row bands; two buffers and 8-row bands; and with ordered dithering, which
+  // depends on each pixel's frame position.
+  for (int pass = 0; pass < 3; ++pass) {
+    const int buffers = pass == 0 ? 1 : 2;
+    const bool dither = pass == 2;
     o.output.buffers = buffers;
     o.output.band_rows = buffers == 1 ? 16 : 8;
+    o.output.dither = dither;
+    SCOPED_TRACE(dither ? "dithered" : buffers == 1 ? "one buffer" : "two buffers");
     e->emulator.reset_counts();
     ml::Stats stats;
     const ml::Status s = render_into(*scene, cam, o, e->sink, &stats);
@@ -112,7 +118,14 @@ TEST_P(PanelRender, PictureIsTheQuantizedFrame) {
 
     std::vector<ml::Pixel> want(ref.stored.size());
     for (size_t i = 0; i < want.size(); ++i)
-      want[i] = ml::expand_stored(f, ml::quantize_pixel(f, ref.stored[i], false, int(i % size_t(w)), int(i / size_t(w))));
+      want[i] = ml::expand_stored(f, ml::quantize_pixel(f, ref.stored[i], dither, int(i % size_t(w)), int(i / size_t(w))));
+    // The frame shows the scene, not just the background (Mono1 without dither lights only the
+    // brightest surfaces).
+    const ml::Pixel background = want[0];
+    size_t scene_pixels = 0;
+    for (ml::Pixel p : want) scene_pixels += p != background;
+    EXPECT_GT(scene_pixels, f == ml::PixelFormat::Mono1 ? size_t(100) : want.size() / 20)
+        << "the scene covers too little of the frame";
     const auto got = e->emulator.picture();
     ASSERT_EQ(got.size(), want.size());
     size_t bad = 0, first = 0;

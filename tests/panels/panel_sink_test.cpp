@@ -454,3 +454,85 @@ TEST(PanelInit, OledFramesUseOnlyWindowCommands) {
 }
 
 }  // namespace
+
+namespace {
+
+// One TFT command with its parameters.
+bool tft(PanelEmulator& e, uint8_t op, std::initializer_list<uint8_t> params = {}) {
+  const std::vector<uint8_t> p(params);
+  return e.write_command(&op, 1) && (p.empty() || e.write_data(p.data(), p.size()));
+}
+
+TEST(PanelEmulatorModel, GlassColourOrderAndInversion) {
+  std::string error;
+  auto e = mlpanels::open_emulated_panel("ili9341", 0, &error);
+  ASSERT_TRUE(e) << error;
+  mlpanels::Bus bus(e->emulator, 0, nullptr);
+  ASSERT_TRUE(e->panel.begin_window(bus, 0, 0, 1, 1));
+  const uint8_t red[2] = {0xF8, 0x00};
+  ASSERT_TRUE(e->emulator.write_data(red, 2));
+  EXPECT_EQ(e->emulator.picture()[0], 0xFF0000u);
+  // Without the BGR bit the ILI9341's BGR glass shows red as blue.
+  ASSERT_TRUE(tft(e->emulator, 0x36, {mlpanels::kMadctlMX}));
+  EXPECT_EQ(e->emulator.picture()[0], 0x0000FFu);
+  ASSERT_TRUE(tft(e->emulator, 0x36, {e->panel.orientation_byte()}));
+  ASSERT_TRUE(tft(e->emulator, 0x21));  // INVON
+  EXPECT_EQ(e->emulator.picture()[0], 0x00FFFFu);
+  ASSERT_TRUE(tft(e->emulator, 0x28));  // DISPOFF
+  EXPECT_FALSE(e->emulator.display_on());
+  EXPECT_EQ(e->emulator.picture()[0], 0u);
+
+  // The ST7789's IPS glass needs INVON: without it every colour shows inverted.
+  auto s = mlpanels::open_emulated_panel("st7789", 0, &error);
+  ASSERT_TRUE(s) << error;
+  mlpanels::Bus sbus(s->emulator, 0, nullptr);
+  ASSERT_TRUE(s->panel.begin_window(sbus, 0, 0, 1, 1));
+  ASSERT_TRUE(s->emulator.write_data(red, 2));
+  EXPECT_EQ(s->emulator.picture()[0], 0xFF0000u);
+  ASSERT_TRUE(tft(s->emulator, 0x20));  // INVOFF
+  EXPECT_EQ(s->emulator.picture()[0], 0x00FFFFu);
+}
+
+TEST(PanelEmulatorModel, Ssd1306NeedsChargePumpAndDisplayOn) {
+  PanelEmulator e(PanelKind::Ssd1306, 0);
+  const uint8_t on[1] = {0xAF};
+  ASSERT_TRUE(e.write_command(on, 1));
+  EXPECT_FALSE(e.display_on());  // charge pump still off
+  const uint8_t pump[2] = {0x8D, 0x14};
+  ASSERT_TRUE(e.write_command(pump, 2));
+  EXPECT_TRUE(e.display_on());
+  // Page addressing mode (the reset default) is not modelled for data.
+  const uint8_t px = 0xFF;
+  EXPECT_FALSE(e.write_data(&px, 1));
+  EXPECT_NE(e.error().find("addressing mode"), std::string::npos) << e.error();
+  // Entire display on lights every pixel whatever the RAM holds.
+  PanelEmulator f(PanelKind::Ssd1306, 180);
+  const uint8_t all[4] = {0x8D, 0x14, 0xA5, 0xAF};
+  ASSERT_TRUE(f.write_command(all, 4));
+  for (ml::Pixel p : f.picture()) ASSERT_EQ(p, 0xFFFFFFu);
+}
+
+TEST(PanelEmulatorModel, Ssd0323VerticalIncrementAndRemap) {
+  PanelEmulator e(PanelKind::Ssd0323, 0);
+  // Vertical address increment (remap bit 2) with nibble remap: bytes go down a column first.
+  const uint8_t setup[] = {0xA0, 0x56, 0x15, 0x02, 0x03, 0x75, 0x00, 0x01, 0xAF};
+  ASSERT_TRUE(e.write_command(setup, sizeof setup));
+  const uint8_t data[4] = {0x12, 0x34, 0x56, 0x78};
+  ASSERT_TRUE(e.write_data(data, 4));
+  EXPECT_EQ(e.ram(4, 0), 1u);  // byte column 2, row 0: pixels 4 (high nibble) and 5
+  EXPECT_EQ(e.ram(5, 0), 2u);
+  EXPECT_EQ(e.ram(4, 1), 3u);  // next byte went down to row 1
+  EXPECT_EQ(e.ram(6, 0), 5u);  // then column 3, row 0
+  EXPECT_EQ(e.ram(7, 1), 8u);
+  EXPECT_FALSE(e.write_data(data, 1));  // window full
+  // Column remap without nibble remap mirrors the pixels: byte column a lands at 126 - 2a, 127 - 2a.
+  PanelEmulator m(PanelKind::Ssd0323, 180);
+  const uint8_t mirror[] = {0xA0, 0x41, 0x15, 0x00, 0x00, 0x75, 0x05, 0x05};
+  ASSERT_TRUE(m.write_command(mirror, sizeof mirror));
+  const uint8_t one = 0x9A;
+  ASSERT_TRUE(m.write_data(&one, 1));
+  EXPECT_EQ(m.ram(127, 5), 9u);
+  EXPECT_EQ(m.ram(126, 5), 10u);
+}
+
+}  // namespace
