@@ -7,6 +7,7 @@
 #   lm3s6965evb QMP screendump of the SSD0323 OLED (512x256) equals `maskline show --display
 #               emu:ssd0323 --zoom 4`, per renderer
 #   microbit    the Cortex-M0+ build's CRC-32 of its frame equals the host's
+#   render-on-qemu with its own camera and options equals `maskline render`
 #   every ELF   arm-none-eabi-nm shows no soft-float helper
 # Usage: tests/firmware/run.sh BUILD
 # Output: one line per check, "ok NAME: ..." or "not ok NAME: reason"; work files in BUILD/firmware/run/.
@@ -35,7 +36,7 @@ for f in "$fwtool" "$fw/mps2-an385.elf" "$fw/lm3s6965evb-tiler.elf" "$fw/lm3s696
 done
 if [ -n "$missing" ]; then
   for n in mps2-tiler-bytes mps2-scanline-bytes mps2-tiler-picture mps2-scanline-picture lm3s-tiler-oled \
-    lm3s-scanline-oled m0plus-microbit-crc no-soft-float; do
+    lm3s-scanline-oled m0plus-microbit-crc render-on-qemu no-soft-float; do
     not_ok "$n" "$missing"
   done
   exit 1
@@ -120,6 +121,25 @@ if (cd "$run/m0plus" && timeout "$limit" qemu-system-arm -M microbit -nographic 
   else not_ok "$name" "board CRC '$board', host CRC '$host'"; fi
 else
   not_ok "$name" "QEMU exited with status $? ($(tail -1 "$run/m0plus/out.txt" 2>/dev/null))"
+fi
+
+# ---- tools/board/render-on-qemu: own camera and options, against maskline render -----------------------
+name="render-on-qemu"
+opts=(--renderer scanline --aa 2 --shading gouraud --size 160x120 --eye 6,4,8 --target 0,1,0)
+mkdir -p "$run/render-on-qemu"
+if json=$(env -u MAKEFLAGS -u MAKELEVEL BUILD="$build" MASKLINE_FIRMWARE_TIMEOUT="$limit" \
+  "$here/../../tools/board/render-on-qemu" "$fw/scenes/default.mls" "${opts[@]}" -o "$run/render-on-qemu/board.png" \
+  --stats 2>"$run/render-on-qemu/err.txt"); then
+  "$cli" render "$fw/scenes/default.mls" "${opts[@]}" --format rgb565 -o "$run/render-on-qemu/cli.png" >/dev/null 2>&1
+  if ! out=$("$fwtool" same "$run/render-on-qemu/board.png" "$run/render-on-qemu/cli.png" 2>&1); then
+    not_ok "$name" "$out"
+  elif ! [[ "$json" == *'"instructions":'[1-9]* && "$json" == *'"flash_bytes":'[1-9]* && "$json" == *'"ram_high_water_bytes":'[1-9]* ]]; then
+    not_ok "$name" "--stats lacks instructions, flash_bytes or ram_high_water_bytes: $json"
+  else
+    ok "$name" "160x120 scanline aa 2 gouraud with its own eye equals maskline render ($out)"
+  fi
+else
+  not_ok "$name" "failed: $(tail -1 "$run/render-on-qemu/err.txt")"
 fi
 
 # ---- no soft-float helper in any ELF ------------------------------------------------------------------
