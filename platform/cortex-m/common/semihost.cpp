@@ -56,9 +56,9 @@ void print_u64(uint64_t value) {
   do {
     uint32_t hi = uint32_t(value >> 32), lo = uint32_t(value);
     const uint32_t qhi = hi / 10, rhi = hi % 10;
-    const uint64_t mid = (uint64_t(rhi) << 32) | lo;  // < 10 * 2^32
-    // mid / 10 without a 64-bit divide: split into 16-bit halves.
-    const uint32_t a = uint32_t(mid >> 16);             // < 10 * 2^16 * 2^16... fits: rhi < 10
+    // (rhi * 2^32 + lo) / 10 by long division in 16-bit digits: a = rhi * 2^16 + lo's high half
+    // (< 10 * 2^16), then b = (a % 10) * 2^16 + lo's low half (< 10 * 2^16).
+    const uint32_t a = (rhi << 16) | (lo >> 16);
     const uint32_t qa = a / 10, ra = a % 10;
     const uint32_t b = (ra << 16) | (lo & 0xFFFF);
     const uint32_t qb = b / 10, rb = b % 10;
