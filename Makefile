@@ -5,6 +5,7 @@
 #   make tables   regenerate tables/ from tools/maskgen
 #   make fuzz     run the blob-reader fuzzer for a minute
 #   make bench    instruction counts (callgrind) for both renderers against a z-buffer baseline
+#   make firmware Cortex-M firmware images for QEMU boards into build/firmware/ (docs/firmware.md)
 
 BUILD   ?= build
 CXX     ?= g++
@@ -118,6 +119,87 @@ $(BUILD)/qemu-fbdev/maskline: $(BUILD)/obj/platform/host/main.o $(HOST_OBJ) $(SC
 	$(CXX) $(OPT) -static -o $@ $^ $(HOST_LIBS) -lz -lm
 QEMU_FB := $(BUILD)/qemu-fbdev/fb_pattern $(BUILD)/qemu-fbdev/fb_check $(BUILD)/qemu-fbdev/maskline
 
+# ---- firmware (platform/cortex-m, docs/firmware.md): Cortex-M ELF files in build/firmware/ ----
+# ARM objects live in build/firmware/obj/<cpu>/; the host helper build/firmware/fwtool makes the scene
+# blobs and the board configuration headers (tools/board).
+FW        := $(BUILD)/firmware
+ARM_CXX   := arm-none-eabi-g++
+FW_FLAGS  := $(CXXSTD) $(WARN) $(INCLUDES) -O2 -g -fno-exceptions -fno-rtti -fno-use-cxa-atexit \
+             -fno-threadsafe-statics -ffunction-sections -fdata-sections
+FW_CPU_m3 := -mcpu=cortex-m3 -mthumb
+FW_CPU_m0 := -mcpu=cortex-m0plus -mthumb
+FW_LD     := -nostartfiles --specs=nano.specs -Wl,--gc-sections -Lplatform/cortex-m/common
+FW_COMMON := platform/cortex-m/common/startup.cpp platform/cortex-m/common/semihost.cpp
+FW_PANELS := platform/panels/panel.cpp platform/panels/panel_sink.cpp
+fwo = $(patsubst %.cpp,$(FW)/obj/$(2)/%.o,$(1))
+# Scenes in flash: the bundled default (mps2-an385, 4 MB) and, for the 256 KB boards, one row of
+# Greene's office rooms (1,100 triangles, 119 KB; FW_SMALL_SCENE).
+FW_SMALL_SCENE ?= office:1
+FW_ELFS := $(FW)/mps2-an385.elf $(FW)/mps2-an385-calls.elf $(FW)/lm3s6965evb-tiler.elf $(FW)/lm3s6965evb-scanline.elf $(FW)/m0plus.elf
+
+$(FW)/obj/m3/%.o: %.cpp
+	@mkdir -p $(dir $@)
+	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_m3) -MMD -MP -c $< -o $@
+$(FW)/obj/m0/%.o: %.cpp
+	@mkdir -p $(dir $@)
+	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_m0) -MMD -MP -c $< -o $@
+$(FW)/obj/m3/libmaskline.a: $(call fwo,$(CORE_SRC),m3)
+	@rm -f $@; arm-none-eabi-ar rcs $@ $^
+$(FW)/obj/m0/libmaskline.a: $(call fwo,$(CORE_SRC),m0)
+	@rm -f $@; arm-none-eabi-ar rcs $@ $^
+
+$(FW)/fwtool: $(call rel,tools/board/fwtool.cpp) $(HOST_OBJ) $(SCENEC_OBJ) $(BUILD)/libmaskline.a
+	@mkdir -p $(dir $@)
+	$(CXX) $(OPT) -o $@ $^ $(HOST_LIBS)
+$(FW)/scenes/default.mls: | $(FW)/fwtool
+	@mkdir -p $(dir $@)
+	$(FW)/fwtool scene default -o $@
+$(FW)/scenes/small.mls: | $(FW)/fwtool
+	@mkdir -p $(dir $@)
+	$(FW)/fwtool scene $(FW_SMALL_SCENE) -o $@
+
+# One firmware image: board main compiled with a configuration header, the scene blob, startup and
+# the core. $(1) elf, $(2) cpu, $(3) main source, $(4) config header, $(5) scene, $(6) memory.ld,
+# $(7) extra sources, $(8) extra flags (main compile and link)
+define fw_image
+$(1): $(3) $(4) $(5) $(6) platform/cortex-m/common/scene_blob.S $(call fwo,$(FW_COMMON) $(7),$(2)) $(FW)/obj/$(2)/libmaskline.a $(wildcard src/*/*.h platform/panels/*.h platform/cortex-m/*/*.h platform/cortex-m/common/*.ld)
+	@mkdir -p $$(dir $$@)
+	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_$(2)) $(8) -include $(4) -c $(3) -o $$(basename $$@)-main.o
+	$(ARM_CXX) $(FW_CPU_$(2)) -DFW_SCENE_FILE='"$(5)"' -c platform/cortex-m/common/scene_blob.S -o $$(basename $$@)-scene.o
+	$(ARM_CXX) $(FW_CPU_$(2)) $(FW_LD) $(8) -T $(6) -Wl,-Map=$$(basename $$@).map -o $$@ $$(basename $$@)-main.o $$(basename $$@)-scene.o $(call fwo,$(FW_COMMON) $(7),$(2)) $(FW)/obj/$(2)/libmaskline.a
+endef
+$(FW)/obj/m3/%.o: %.S
+	@mkdir -p $(dir $@)
+	$(ARM_CXX) $(FW_CPU_m3) -c $< -o $@
+# mps2-an385-calls: the mps2 firmware with the core's calls to these runtime helpers counted
+FW_COUNTED := __aeabi_ldivmod __aeabi_uldivmod __ctzdi2
+fw_comma := ,
+FW_WRAP := -DFW_COUNT_CALLS $(foreach f,$(FW_COUNTED),-Wl$(fw_comma)--wrap=$(f))
+
+$(FW)/config/%.h: | $(FW)/fwtool
+	@mkdir -p $(dir $@)
+	$(FW)/fwtool config $(FW_CONFIG_ARGS_$*) -o $@
+FW_CONFIG_ARGS_mps2 := --size 320x240 --format rgb565
+FW_CONFIG_ARGS_lm3s-tiler := --size 128x64 --format grey4 --renderer tiler
+FW_CONFIG_ARGS_lm3s-scanline := --size 128x64 --format grey4 --renderer scanline
+FW_CONFIG_ARGS_m0plus := --size 128x64 --format grey4 --renderer tiler
+
+$(eval $(call fw_image,$(FW)/mps2-an385.elf,m3,platform/cortex-m/mps2-an385/main.cpp,$(FW)/config/mps2.h,$(FW)/scenes/default.mls,platform/cortex-m/mps2-an385/memory.ld,))
+$(eval $(call fw_image,$(FW)/mps2-an385-calls.elf,m3,platform/cortex-m/mps2-an385/main.cpp,$(FW)/config/mps2.h,$(FW)/scenes/default.mls,platform/cortex-m/mps2-an385/memory.ld,$(FW)/obj/m3/platform/cortex-m/common/call_shims.o platform/cortex-m/common/call_count.cpp,$(FW_WRAP)))
+$(eval $(call fw_image,$(FW)/lm3s6965evb-tiler.elf,m3,platform/cortex-m/lm3s6965evb/main.cpp,$(FW)/config/lm3s-tiler.h,$(FW)/scenes/small.mls,platform/cortex-m/lm3s6965evb/memory.ld,$(FW_PANELS) platform/cortex-m/lm3s6965evb/ssi_transport.cpp))
+$(eval $(call fw_image,$(FW)/lm3s6965evb-scanline.elf,m3,platform/cortex-m/lm3s6965evb/main.cpp,$(FW)/config/lm3s-scanline.h,$(FW)/scenes/small.mls,platform/cortex-m/lm3s6965evb/memory.ld,$(FW_PANELS) platform/cortex-m/lm3s6965evb/ssi_transport.cpp))
+$(eval $(call fw_image,$(FW)/m0plus.elf,m0,platform/cortex-m/m0plus/main.cpp,$(FW)/config/m0plus.h,$(FW)/scenes/small.mls,platform/cortex-m/m0plus/memory.ld,))
+
+# tools/board/render-on-qemu: a scene and options of its own in build/firmware/custom/NAME/
+$(FW)/custom/%/mps2-an385.elf: $(FW)/custom/%/config.h $(FW)/custom/%/scene.mls $(call fwo,$(FW_COMMON),m3) $(FW)/obj/m3/libmaskline.a platform/cortex-m/mps2-an385/main.cpp
+	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_m3) -include $(FW)/custom/$*/config.h -c platform/cortex-m/mps2-an385/main.cpp -o $(basename $@)-main.o
+	$(ARM_CXX) $(FW_CPU_m3) -DFW_SCENE_FILE='"$(FW)/custom/$*/scene.mls"' -c platform/cortex-m/common/scene_blob.S -o $(basename $@)-scene.o
+	$(ARM_CXX) $(FW_CPU_m3) $(FW_LD) -T platform/cortex-m/mps2-an385/memory.ld -o $@ $(basename $@)-main.o $(basename $@)-scene.o $(call fwo,$(FW_COMMON),m3) $(FW)/obj/m3/libmaskline.a
+
+.PHONY: firmware
+firmware: bootstrap
+	@$(MAKE) --no-print-directory $(FW_ELFS) $(BUILD)/maskline
+
 # ---- fuzzing: clang libFuzzer over the blob reader ----
 FUZZ_SRC := tests/fuzz/fuzz_blob_reader.cpp $(CORE_SRC)
 $(BUILD)/fuzz_blob_reader: $(FUZZ_SRC) $(shell find src tables -name '*.h')
@@ -129,7 +211,7 @@ fuzz: bootstrap
 	bash tests/fuzz/run.sh $(BUILD) 60
 
 test: bootstrap
-	@$(MAKE) --no-print-directory $(BUILD)/san/tests $(BUILD)/san/maskline $(BUILD)/maskgen $(BUILD)/fuzz_blob_reader $(QEMU_FB)
+	@$(MAKE) --no-print-directory $(BUILD)/san/tests $(BUILD)/san/maskline $(BUILD)/maskgen $(BUILD)/fuzz_blob_reader $(QEMU_FB) $(FW_ELFS)
 	@bash tests/run_all.sh $(BUILD) $(MASK_K)
 
 tables: $(BUILD)/maskgen

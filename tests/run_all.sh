@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every test: the sanitized GoogleTest binary (unit, property, oracle and CLI tests), the
-# blob-reader fuzz smoke run and the framebuffer test under QEMU (tests/qemu-fbdev).
+# blob-reader fuzz smoke run, the framebuffer test under QEMU (tests/qemu-fbdev) and the firmware
+# checks under qemu-system-arm (tests/firmware).
 # Usage: tests/run_all.sh BUILD MASK_K
 # The last line is exactly "N passed, N failed"; the exit status is non-zero when anything failed.
 set -u
@@ -75,6 +76,23 @@ if [ -f tests/qemu-fbdev/run.sh ]; then
 else
   failed=$((failed + 1))
   failures+=("qemu-fbdev: tests/qemu-fbdev/run.sh is missing")
+fi
+
+# ---- firmware under QEMU (one test per check: tests/firmware/run.sh) ----------------------------
+if [ -f tests/firmware/run.sh ]; then
+  echo "firmware: Cortex-M boards under qemu-system-arm against the host's frames"
+  start=$SECONDS
+  while IFS= read -r line; do
+    echo "$line" >>"$log"
+    case "$line" in
+      "ok "*) passed=$((passed + 1)); echo "firmware: ${line#ok }" ;;
+      "not ok "*) failed=$((failed + 1)); failures+=("firmware ${line#not ok }") ;;
+    esac
+  done < <(bash tests/firmware/run.sh "$build" 2>>"$log")
+  echo "firmware: done in $((SECONDS - start)) s"
+else
+  failed=$((failed + 1))
+  failures+=("firmware: tests/firmware/run.sh is missing")
 fi
 
 if [ ${#failures[@]} -gt 0 ]; then
