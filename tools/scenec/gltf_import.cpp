@@ -16,15 +16,62 @@
 
 #include <tiny_gltf.h>
 
+#include "tools/scenec/limits.h"
 #include "tools/scenec/scenec.h"
 
 namespace ml {
 namespace {
 
-constexpr size_t kMaxAccessorCount = size_t(1) << 28;
-constexpr size_t kMaxNodeInstances = size_t(1) << 20;
-constexpr size_t kMaxTriangles = size_t(1) << 27;
-constexpr size_t kMaxFileBytes = size_t(1) << 31;
+// JSON nesting depth of text[0, n): '[' and '{' outside strings (escapes respected). Counting stops
+// as soon as the depth passes `limit`, so the result is at most limit + 1.
+int json_depth(const unsigned char* text, size_t n, int limit) {
+  int depth = 0, deepest = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < n; ++i) {
+    const unsigned char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;   // the escaped character cannot end the string
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > deepest) deepest = depth;
+      if (deepest > limit) return deepest;
+    } else if (c == ']' || c == '}') {
+      if (depth > 0) --depth;
+    }
+  }
+  return deepest;
+}
+
+// The JSON text of a .glb (its first chunk), clamped to the bytes present; empty when too short.
+void glb_json_chunk(const unsigned char* bytes, size_t size, const unsigned char** json, size_t* length) {
+  *json = nullptr;
+  *length = 0;
+  if (size < 20) return;
+  uint32_t chunk_length;
+  std::memcpy(&chunk_length, bytes + 12, 4);
+  *json = bytes + 20;
+  *length = std::min<size_t>(chunk_length, size - 20);
+}
+
+// External files (buffers and images given by path) are read like the input itself: regular files
+// of at most kMaxGltfFileBytes. With external files off (compiling from memory), none is read.
+bool read_external_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+  std::string error;
+  if (read_input_file(path, kMaxGltfFileBytes, out, &error)) return true;
+  if (err) *err += error + "\n";
+  return false;
+}
+bool no_file_exists(const std::string&, void*) { return false; }
+bool no_file_read(std::vector<unsigned char>*, std::string* err, const std::string& path, void*) {
+  if (err) *err += "external file " + path + " is not read here\n";
+  return false;
+}
+bool no_file_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err) *err += "files are not written here\n";
+  return false;
+}
 
 // One line: newlines become "; ", trailing separators and blanks go.
 std::string one_line(const std::string& text) {
@@ -349,10 +396,10 @@ class Importer {
     if (acc.count > kMaxAccessorCount) return fail(where + ": count too large");
     const size_t count = acc.count;
     const size_t elem = size_t(csize) * size_t(components);
-    out->assign(count * size_t(components), 0.0);
+    // Every check on the sizes comes before the allocation: a small file may claim a huge count.
+    const unsigned char* data = nullptr;
+    size_t length = 0, stride = 0;
     if (acc.bufferView >= 0) {
-      const unsigned char* data = nullptr;
-      size_t length = 0, stride = 0;
       if (!view_bytes(acc.bufferView, where, &data, &length, &stride)) return false;
       if (stride == 0) stride = elem;
       if (stride < elem || stride > 252 || stride % size_t(csize) != 0) return fail(where + ": bad byte stride");
@@ -361,6 +408,15 @@ class Importer {
         const uint64_t need = uint64_t(acc.byteOffset) + uint64_t(count - 1) * stride + elem;
         if (need > length) return fail(where + ": data outside its buffer view");
       }
+    } else if (acc.bufferView < -1) {
+      return fail(where + ": buffer view index out of range");
+    } else {
+      // No buffer view: zeros (and sparse values) that nothing in the file backs.
+      unbacked_elements_ += count;
+      if (unbacked_elements_ > kMaxUnbackedElements) return fail(where + ": too many elements without a buffer view");
+    }
+    out->assign(count * size_t(components), 0.0);
+    if (acc.bufferView >= 0) {
       for (size_t i = 0; i < count; ++i) {
         const unsigned char* p = data + acc.byteOffset + i * stride;
         for (int c = 0; c < components; ++c) {
@@ -368,8 +424,6 @@ class Importer {
               component_value(p + size_t(c) * size_t(csize), acc.componentType, acc.normalized);
         }
       }
-    } else if (acc.bufferView < -1) {
-      return fail(where + ": buffer view index out of range");
     }
     if (acc.sparse.isSparse && !apply_sparse(acc, components, csize, where, out)) return false;
     for (double v : *out) {
@@ -574,6 +628,7 @@ class Importer {
   uint32_t default_material_ = kNone;
   bool warned_skin_ = false;
   size_t total_triangles_ = 0;
+  size_t unbacked_elements_ = 0;
 };
 
 std::string base_dir_of(const std::string& path) {
@@ -583,39 +638,48 @@ std::string base_dir_of(const std::string& path) {
 
 }  // namespace
 
-bool import_gltf_file(const std::string& path, SceneMesh* mesh, std::vector<std::string>* warnings,
-                      std::string* error) {
+bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::string& base_dir, SceneMesh* mesh,
+                        std::vector<std::string>* warnings, std::string* error) {
   *mesh = SceneMesh();
   try {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-      *error = "cannot open " + path + ": " + std::strerror(errno);
+    if (size == 0) {
+      *error = "file is empty";
       return false;
     }
-    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) {
-      *error = "cannot read " + path;
-      return false;
-    }
-    if (bytes.size() >= kMaxFileBytes) {
+    if (size > kMaxGltfFileBytes) {
       *error = "file too large for glTF";
       return false;
     }
-    if (bytes.empty()) {
-      *error = "file is empty";
+    const bool binary = size >= 4 && std::memcmp(bytes, "glTF", 4) == 0;
+    // The JSON parsers recurse once per nesting level: refuse deep nesting before they see it.
+    const unsigned char* json = bytes;
+    size_t json_length = size;
+    if (binary) glb_json_chunk(bytes, size, &json, &json_length);
+    if (json_depth(json, json_length, kMaxJsonDepth) > kMaxJsonDepth) {
+      *error = "invalid glTF: JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels";
       return false;
     }
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&keep_image_reference, nullptr);
+    tinygltf::FsCallbacks fs{};
+    fs.ExpandFilePath = &tinygltf::ExpandFilePath;
+    fs.WriteWholeFile = &no_file_write;
+    if (base_dir.empty()) {
+      fs.FileExists = &no_file_exists;
+      fs.ReadWholeFile = &no_file_read;
+    } else {
+      fs.FileExists = &tinygltf::FileExists;
+      fs.ReadWholeFile = &read_external_file;
+    }
+    loader.SetFsCallbacks(fs);
     tinygltf::Model model;
     std::string err, warn;
-    const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
     bool ok;
     if (binary) {
-      ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), base_dir_of(path));
+      ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes, unsigned(size), base_dir);
     } else {
-      ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
-                                      unsigned(bytes.size()), base_dir_of(path));
+      ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes), unsigned(size),
+                                      base_dir);
     }
     for (const std::string& w : split_lines(warn)) {
       if (warnings->size() < 100) warnings->push_back(w);
@@ -624,7 +688,7 @@ bool import_gltf_file(const std::string& path, SceneMesh* mesh, std::vector<std:
       const std::string e = one_line(err);
       *error = e.empty() ? std::string("invalid glTF") : "invalid glTF: " + e;
       static const char kDraco[] = "KHR_draco_mesh_compression";
-      if (std::search(bytes.begin(), bytes.end(), kDraco, kDraco + sizeof(kDraco) - 1) != bytes.end()) {
+      if (std::search(bytes, bytes + size, kDraco, kDraco + sizeof(kDraco) - 1) != bytes + size) {
         *error = std::string(kDraco) + " is not supported (" + (e.empty() ? std::string("invalid glTF") : e) + ")";
       }
       return false;
@@ -643,6 +707,29 @@ bool import_gltf_file(const std::string& path, SceneMesh* mesh, std::vector<std:
     *error = "invalid glTF: unknown parse failure";
   }
   return false;
+}
+
+bool import_gltf_file(const std::string& path, SceneMesh* mesh, std::vector<std::string>* warnings,
+                      std::string* error) {
+  *mesh = SceneMesh();
+  std::vector<unsigned char> bytes;
+  if (!read_input_file(path, kMaxGltfFileBytes, &bytes, error)) return false;
+  return import_gltf_memory(bytes.data(), bytes.size(), base_dir_of(path), mesh, warnings, error);
+}
+
+CompileResult compile_gltf_memory(const unsigned char* bytes, size_t size, const CompileOptions& options) {
+  SceneMesh mesh;
+  std::vector<std::string> warnings;
+  std::string error;
+  CompileResult result;
+  if (!import_gltf_memory(bytes, size, "", &mesh, &warnings, &error)) {
+    result.error = error;
+    result.warnings = std::move(warnings);
+    return result;
+  }
+  result = compile_mesh(mesh, options);
+  result.warnings.insert(result.warnings.begin(), warnings.begin(), warnings.end());
+  return result;
 }
 
 CompileResult compile_gltf_file(const std::string& path, const CompileOptions& options) {

@@ -1,0 +1,31 @@
+// The input limits of the host side (scene compiler and file loading), in one place. docs/cli.md
+// lists them under "Input limits". Renderer limits (world range, screen size, BSP depth) stay with the
+// core in src/. An input beyond any of these is rejected with a one-line error before the work or
+// memory it would take is spent.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+
+namespace ml {
+
+// Files are read only when they are regular files (not devices, pipes or directories) and only up to
+// these sizes; the size is checked before any byte is read.
+constexpr uint64_t kMaxGltfFileBytes = (uint64_t(1) << 31) - 1;   // .gltf/.glb and external buffers
+constexpr uint64_t kMaxBlobFileBytes = (uint64_t(1) << 32) - 1;   // .mls (offsets in the blob are 32-bit)
+
+// JSON nesting (arrays and objects inside each other) of a .gltf file or a .glb's JSON chunk, checked
+// on the raw bytes before the JSON parser runs (the parsers recurse once per level).
+constexpr int kMaxJsonDepth = 64;
+
+// Elements of one accessor. An accessor's count × stride must also fit its buffer view, checked
+// before anything is allocated.
+constexpr size_t kMaxAccessorCount = size_t(1) << 28;
+// Elements of accessors without a buffer view (all zero but for sparse values): at most this many in
+// one file, since nothing in the file backs them.
+constexpr size_t kMaxUnbackedElements = size_t(1) << 20;
+// Node instances reached from the scene's roots (a node reached twice counts twice).
+constexpr size_t kMaxNodeInstances = size_t(1) << 20;
+// Triangles over the whole scene, after strips and fans are expanded.
+constexpr size_t kMaxTriangles = size_t(1) << 27;
+
+}  // namespace ml
