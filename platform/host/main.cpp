@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 
 #include <cmath>
 #include <string>
@@ -151,7 +152,9 @@ double parse_number(const std::string& option, const std::string& text) {
   errno = 0;
   char* end = nullptr;
   const double v = strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || errno != 0 || !std::isfinite(v))
+  // ERANGE on underflow (1e-310, a subnormal) still gives a usable value; only overflow is refused.
+  const bool range_error = errno != 0 && !(errno == ERANGE && std::fabs(v) <= 1.0);
+  if (text.empty() || *end != '\0' || range_error || !std::isfinite(v))
     usage_error(option + ": expected a finite number, got '" + text + "'");
   return v;
 }
@@ -235,10 +238,13 @@ ml::Camera make_camera(const ml::Scene& scene, const CameraArgs& c, int width, i
     usage_error("--target: outside the world range of this scene");
   if (c.has_eye && !c.has_target) cam.target = center;
   if (c.has_up) {
-    const double len = std::sqrt(c.up[0] * c.up[0] + c.up[1] * c.up[1] + c.up[2] * c.up[2]);
-    if (!(len > 0)) usage_error("--up: must not be zero");
-    cam.up = ml::Vec3i{int32_t(std::llround(c.up[0] / len * (1 << 20))), int32_t(std::llround(c.up[1] / len * (1 << 20))),
-                       int32_t(std::llround(c.up[2] / len * (1 << 20)))};
+    // Scale by the largest component first: squaring 1e300 overflows and squaring 1e-300 underflows.
+    const double largest = std::max(std::fabs(c.up[0]), std::max(std::fabs(c.up[1]), std::fabs(c.up[2])));
+    if (!(largest > 0)) usage_error("--up: must not be zero");
+    const double u[3] = {c.up[0] / largest, c.up[1] / largest, c.up[2] / largest};
+    const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);   // 1..sqrt(3)
+    cam.up = ml::Vec3i{int32_t(std::llround(u[0] / len * (1 << 20))), int32_t(std::llround(u[1] / len * (1 << 20))),
+                       int32_t(std::llround(u[2] / len * (1 << 20)))};
   }
   if (c.has_near) {
     const double n = c.near * map.to_world;
@@ -256,6 +262,21 @@ ml::Camera make_camera(const ml::Scene& scene, const CameraArgs& c, int width, i
   if (!s.ok()) usage_error(std::string("camera: ") + s.message);
   return cam;
 }
+
+// Anonymous zero pages for an arena larger than a render asks for (render --arena).
+struct MappedArena {
+  void* base = MAP_FAILED;
+  size_t bytes = 0;
+  MappedArena() = default;
+  MappedArena(const MappedArena&) = delete;
+  MappedArena& operator=(const MappedArena&) = delete;
+  ~MappedArena() { reset(); }
+  void reset() {
+    if (base != MAP_FAILED) munmap(base, bytes);
+    base = MAP_FAILED;
+    bytes = 0;
+  }
+};
 
 // ---- commands -------------------------------------------------------------------------------------
 
@@ -386,12 +407,25 @@ int cmd_render(int argc, char** argv) {
   const ml::Camera camera = make_camera(scene, cam_args, width, height);
 
   std::vector<uint64_t> arena_storage;
+  MappedArena arena_map;
   // Renders once into an in-memory image that checks the once-per-pixel contract.
   auto run = [&](const ml::RenderOptions& o, mlhost::ImageSink* sink, ml::Stats* stats) {
     const size_t need = ml::render_arena_bytes(scene, camera, o);
     const size_t bytes = arena_override >= 0 ? size_t(arena_override) : need;
-    arena_storage.assign((bytes + 7) / 8, 0);
-    ml::Arena arena(arena_storage.data(), bytes);
+    void* base = nullptr;
+    if (bytes <= need) {
+      arena_storage.assign((bytes + 7) / 8, 0);
+      base = arena_storage.data();
+    } else {
+      // More than the render needs (--arena): mapped, not allocated, so the pages the render never
+      // touches cost nothing and a size the system cannot provide is one error line.
+      arena_map.reset();
+      arena_map.base = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+      if (arena_map.base == MAP_FAILED) failure("out of memory: cannot map an arena of " + std::to_string(bytes) + " bytes");
+      arena_map.bytes = bytes;
+      base = arena_map.base;
+    }
+    ml::Arena arena(base, bytes);
     const ml::Status s = ml::render(scene, camera, o, arena, *sink, stats);
     if (s.code == ml::StatusCode::ArenaTooSmall)
       failure("render failed: arena too small: " + std::to_string(s.value) + " bytes needed, " + std::to_string(bytes) + " given");
