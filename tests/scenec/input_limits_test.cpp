@@ -126,10 +126,11 @@ TEST(ScenecLimits, AccessorCountIsCheckedBeforeAllocating) {
   const std::vector<float> tri = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   const long rss_before = peak_rss_mb();
   const auto start = std::chrono::steady_clock::now();
-  // POSITION claims 2^28 elements of a 36-byte view.
+  // POSITION claims 2^26 elements (1.5 GB as doubles) of a 36-byte view; 2^28 would be refused by
+  // the scene's vertex total before the accessor is looked at.
   std::string json = positions_gltf(tri);
   const std::string small = "\"count\":3,";
-  json.replace(json.find(small), small.size(), "\"count\":268435456,");
+  json.replace(json.find(small), small.size(), "\"count\":67108864,");
   expect_refused(compile_text(json), "huge POSITION count", "outside its buffer view");
   const std::vector<uint8_t> glb = make_glb(json);
   expect_refused(compile_gltf_memory(glb.data(), glb.size()), "huge POSITION count (.glb)", "outside its buffer view");
@@ -193,4 +194,36 @@ TEST(ScenecLimits, DegenerateOnlyGeometryCompiles) {
       compile_text(positions_gltf({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 0, 1, 1, 0, 1, 0, 1, 1}));
   ASSERT_TRUE(mixed.ok) << mixed.error;
   EXPECT_EQ(mixed.report.triangles, 3u);
+}
+
+TEST(ScenecLimits, SharedMeshTotalsAreCheckedBeforeReading) {
+  // 18 levels of nodes listing the next one twice: 2^18 instances of a mesh with 2^10 triangles
+  // (one index buffer of 3 * 2^10 zeros) = 2^28 triangles from a small file.
+  std::string nodes;
+  for (int i = 0; i < 18; ++i) nodes += "{\"children\":[" + std::to_string(i + 1) + "," + std::to_string(i + 1) + "]},";
+  nodes += "{\"mesh\":0}";
+  std::string json = positions_gltf({0, 0, 0, 1, 0, 0, 0, 1, 0});
+  json = json.substr(0, json.find("\"scenes\""));
+  const std::vector<uint8_t> zeros(3 * 1024 * 2, 0);
+  json.replace(json.find("\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}"),
+               std::string("\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}").size(),
+               "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1");
+  json.replace(json.find("\"type\":\"VEC3\"}"), std::string("\"type\":\"VEC3\"}").size(),
+               "\"type\":\"VEC3\"},{\"bufferView\":1,\"componentType\":5123,\"count\":3072,\"type\":\"SCALAR\"}");
+  json.replace(json.find("}],\"accessors\""), 2,
+               "},{\"buffer\":1,\"byteLength\":" + std::to_string(zeros.size()) + "}]");
+  json.replace(json.find("}],\"bufferViews\""), 2,
+               "},{\"byteLength\":" + std::to_string(zeros.size()) + ",\"uri\":\"data:application/octet-stream;base64," +
+                   base64(zeros) + "\"}]");
+  json += "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[" + nodes + "]}";
+  const long rss_before = peak_rss_mb();
+  const auto start = std::chrono::steady_clock::now();
+  expect_refused(compile_text(json), "shared mesh", "too many");
+  EXPECT_LT(seconds_since(start), 1.0);
+  EXPECT_LT(peak_rss_mb() - rss_before, 100);
+  // The mesh under a single node is legal and compiles.
+  const std::string one = json.substr(0, json.find("\"nodes\":[{\"children\"")) + "\"nodes\":[{\"mesh\":0}]}";
+  const CompileResult ok = compile_text(one);
+  EXPECT_TRUE(ok.ok) << ok.error;
+  EXPECT_EQ(ok.report.triangles, 1024u);
 }

@@ -229,6 +229,7 @@ class Importer {
         mesh_.materials[m].texture = kNone;
       }
     }
+    if (!check_totals(roots)) return false;
     on_path_.assign(model_.nodes.size(), 0);
     for (int root : roots) {
       if (!visit(root)) return false;
@@ -326,6 +327,71 @@ class Importer {
       mesh_.materials.push_back(m);
     }
     return default_material_;
+  }
+
+  // Accessor element count, or 0 when the index is out of range (reported when it is read).
+  size_t accessor_count(int index) const {
+    return index >= 0 && size_t(index) < model_.accessors.size() ? model_.accessors[size_t(index)].count : 0;
+  }
+
+  // Node instances, vertices and triangles of the whole scene from accessor counts alone, before
+  // anything is read: a small file whose nodes share a mesh many times is refused up front instead of
+  // after allocating its way to a limit. Malformed graphs (cycles, bad indices) are left to visit().
+  bool check_totals(const std::vector<int>& roots) {
+    std::vector<size_t> mesh_vertices(model_.meshes.size(), 0), mesh_triangles(model_.meshes.size(), 0);
+    for (size_t m = 0; m < model_.meshes.size(); ++m) {
+      for (const tinygltf::Primitive& prim : model_.meshes[m].primitives) {
+        const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+        const auto pos = prim.attributes.find("POSITION");
+        if (pos == prim.attributes.end()) continue;
+        const size_t v = std::min(accessor_count(pos->second), kMaxAccessorCount);
+        const size_t n = std::min(prim.indices >= 0 ? accessor_count(prim.indices) : v, kMaxAccessorCount);
+        size_t t = 0;
+        if (mode == TINYGLTF_MODE_TRIANGLES) t = n / 3;
+        else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP || mode == TINYGLTF_MODE_TRIANGLE_FAN) t = n > 2 ? n - 2 : 0;
+        else continue;
+        mesh_vertices[m] += v;
+        mesh_triangles[m] += t;
+      }
+    }
+    std::vector<char> on_path(model_.nodes.size(), 0);
+    size_t instances = 0, vertices = 0, triangles = 0;
+    struct Item {
+      int node;
+      size_t next_child;
+    };
+    std::vector<Item> stack;
+    auto enter_node = [&](int n) {
+      if (n < 0 || size_t(n) >= model_.nodes.size() || on_path[size_t(n)]) return false;
+      const tinygltf::Node& node = model_.nodes[size_t(n)];
+      ++instances;
+      if (node.mesh >= 0 && size_t(node.mesh) < model_.meshes.size()) {
+        vertices += mesh_vertices[size_t(node.mesh)];
+        triangles += mesh_triangles[size_t(node.mesh)];
+      }
+      on_path[size_t(n)] = 1;
+      stack.push_back(Item{n, 0});
+      return true;
+    };
+    for (int root : roots) {
+      if (!enter_node(root)) return true;
+      while (!stack.empty()) {
+        if (instances > kMaxNodeInstances) return fail("too many node instances (node graph too large)");
+        if (triangles > kMaxTriangles) return fail("too many triangles (" + std::to_string(triangles) + " or more)");
+        if (vertices > kMaxVertices) return fail("too many vertices (" + std::to_string(vertices) + " or more)");
+        Item& top = stack.back();
+        const tinygltf::Node& node = model_.nodes[size_t(top.node)];
+        if (top.next_child < node.children.size()) {
+          if (!enter_node(node.children[top.next_child++])) return true;
+        } else {
+          on_path[size_t(top.node)] = 0;
+          stack.pop_back();
+        }
+      }
+    }
+    if (triangles > kMaxTriangles) return fail("too many triangles (" + std::to_string(triangles) + ")");
+    if (vertices > kMaxVertices) return fail("too many vertices (" + std::to_string(vertices) + ")");
+    return true;
   }
 
   // Depth-first pre-order over the node graph from `root`, children in order, with an explicit stack.

@@ -25,7 +25,10 @@ constexpr size_t kMaxAccessorCount = size_t(1) << 28;
 constexpr size_t kMaxUnbackedElements = size_t(1) << 20;
 // Node instances reached from the scene's roots (a node reached twice counts twice).
 constexpr size_t kMaxNodeInstances = size_t(1) << 20;
-// Triangles over the whole scene, after strips and fans are expanded.
+// Triangles over the whole scene, after strips and fans are expanded, and vertices over the whole
+// scene (each node instance counts its mesh again). Both totals, and the node instances, are
+// computed from accessor counts before any accessor is read.
 constexpr size_t kMaxTriangles = size_t(1) << 27;
+constexpr size_t kMaxVertices = size_t(1) << 27;
 
 }  // namespace ml
