@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs every test: the sanitized GoogleTest binary (unit, property, oracle and CLI tests) and the
-# blob-reader fuzz smoke run. Usage: tests/run_all.sh BUILD MASK_K
+# fuzz smoke runs of the blob reader and of the glTF importer. Usage: tests/run_all.sh BUILD MASK_K
 # The last line is exactly "N passed, N failed"; the exit status is non-zero when anything failed.
 set -u
 
@@ -57,6 +57,20 @@ if [ -f tests/fuzz/run.sh ]; then
 else
   failed=$((failed + 1))
   failures+=("fuzz smoke: tests/fuzz/run.sh is missing")
+fi
+
+# ---- glTF fuzz smoke (one test) ------------------------------------------------------------------
+if [ -f tests/fuzz/run_gltf.sh ]; then
+  echo "fuzz: 15 s smoke run of the glTF importer, compiler and renderers"
+  if bash tests/fuzz/run_gltf.sh "$build" 15 >>"$log" 2>&1; then
+    passed=$((passed + 1))
+  else
+    failed=$((failed + 1))
+    failures+=("glTF fuzz smoke (tests/fuzz/run_gltf.sh $build 15)")
+  fi
+else
+  failed=$((failed + 1))
+  failures+=("glTF fuzz smoke: tests/fuzz/run_gltf.sh is missing")
 fi
 
 if [ ${#failures[@]} -gt 0 ]; then
