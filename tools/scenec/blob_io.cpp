@@ -18,8 +18,13 @@ void Blob::assign(const void* src, size_t n) {
   if (n != 0) std::memcpy(words.data(), src, n);
 }
 
-bool read_input_file(const std::string& path, uint64_t max_bytes, std::vector<uint8_t>* out, std::string* error) {
-  out->clear();
+namespace {
+
+// Opens `path`, checks it is a regular file of at most max_bytes, asks `storage` for that many bytes
+// and reads into them. *got is the byte count read (a file that shrank meanwhile is shorter).
+template <typename Storage>
+bool read_regular_file(const std::string& path, uint64_t max_bytes, Storage storage, size_t* got, std::string* error) {
+  *got = 0;
   // O_NONBLOCK: opening a FIFO must not wait for a writer (it is refused below anyway).
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
@@ -38,18 +43,18 @@ bool read_input_file(const std::string& path, uint64_t max_bytes, std::vector<ui
                         std::to_string(max_bytes) + ")";
     return false;
   }
+  const size_t size = size_t(st.st_size);
+  uint8_t* data = nullptr;
   try {
-    out->resize(size_t(st.st_size));
+    data = storage(size);
   } catch (const std::bad_alloc&) {
     ::close(fd);
     if (error) *error = path + ": out of memory";
     return false;
   }
-  // Read what fstat promised and no more: a file that grows meanwhile is read only that far; one that
-  // shrinks ends early.
-  size_t got = 0;
-  while (got < out->size()) {
-    const ssize_t n = ::read(fd, out->data() + got, out->size() - got);
+  // Read what fstat promised and no more: a file that grows meanwhile is read only that far.
+  while (*got < size) {
+    const ssize_t n = ::read(fd, data + *got, size - *got);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) {
       ::close(fd);
@@ -57,17 +62,35 @@ bool read_input_file(const std::string& path, uint64_t max_bytes, std::vector<ui
       return false;
     }
     if (n == 0) break;
-    got += size_t(n);
+    *got += size_t(n);
   }
   ::close(fd);
+  return true;
+}
+
+}  // namespace
+
+bool read_input_file(const std::string& path, uint64_t max_bytes, std::vector<uint8_t>* out, std::string* error) {
+  out->clear();
+  size_t got = 0;
+  auto storage = [out](size_t n) {
+    out->resize(n);
+    return out->data();
+  };
+  if (!read_regular_file(path, max_bytes, storage, &got, error)) return false;
   out->resize(got);
   return true;
 }
 
 bool load_blob_file(const std::string& path, Blob* out, std::string* error) {
-  std::vector<uint8_t> bytes;
-  if (!read_input_file(path, kMaxBlobFileBytes, &bytes, error)) return false;
-  out->assign(bytes.data(), bytes.size());
+  // Straight into the blob's aligned storage: no second copy of a large blob.
+  size_t got = 0;
+  auto storage = [out](size_t n) {
+    out->resize(n);
+    return out->bytes();
+  };
+  if (!read_regular_file(path, kMaxBlobFileBytes, storage, &got, error)) return false;
+  out->size = got;
   return true;
 }
 
