@@ -122,6 +122,26 @@ TEST(ScenecLimits, DeepJsonIsRefusedBeforeParsing) {
   EXPECT_EQ(s.error.find("nested deeper"), std::string::npos) << s.error;
 }
 
+TEST(ScenecLimits, VeryLargeJsonIsRefusedBeforeParsing) {
+  // Three bytes per empty material, about 3 KB each once parsed; members of "extras" about 400 bytes.
+  std::string materials = "{\"asset\":{\"version\":\"2.0\"},\"materials\":[{}";
+  for (int i = 1; i < 40000; ++i) materials += ",{}";
+  materials += "]}";
+  std::string extras = "{\"asset\":{\"version\":\"2.0\"},\"extras\":{\"k0\":\"\"";
+  for (int i = 1; i < 300000; ++i) extras += ",\"k" + std::to_string(i) + "\":\"\"";
+  extras += "}}";
+  const long rss_before = peak_rss_mb();
+  const auto start = std::chrono::steady_clock::now();
+  expect_refused(compile_text(materials), "40000 materials", "JSON too large");
+  expect_refused(compile_text(extras), "300000 extras members", "JSON too large");
+  EXPECT_LT(seconds_since(start), 1.0);
+  EXPECT_LT(peak_rss_mb() - rss_before, 50);
+  // Base64 buffers are strings: a large one does not count.
+  const std::vector<float> many(3 * 30000, 0.5f);
+  const CompileResult big_buffer = compile_text(positions_gltf(many));
+  EXPECT_EQ(big_buffer.error.find("JSON too large"), std::string::npos) << big_buffer.error;
+}
+
 TEST(ScenecLimits, AccessorCountIsCheckedBeforeAllocating) {
   const std::vector<float> tri = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   const long rss_before = peak_rss_mb();

@@ -22,10 +22,17 @@
 namespace ml {
 namespace {
 
-// JSON nesting depth of text[0, n): '[' and '{' outside strings (escapes respected). Counting stops
-// as soon as the depth passes `limit`, so the result is at most limit + 1.
-int json_depth(const unsigned char* text, size_t n, int limit) {
-  int depth = 0, deepest = 0;
+// What the raw JSON text of a glTF will cost the parsers, measured before they run: nesting depth
+// ('[' and '{' outside strings, escapes respected) and values (each ',', ':' and '[' outside strings
+// counts 1, each '{' counts kJsonObjectCost). The scan stops as soon as either limit is passed.
+struct JsonShape {
+  int depth = 0;
+  uint64_t values = 0;
+};
+
+JsonShape json_shape(const unsigned char* text, size_t n) {
+  JsonShape shape;
+  int depth = 0;
   bool in_string = false;
   for (size_t i = 0; i < n; ++i) {
     const unsigned char c = text[i];
@@ -35,13 +42,16 @@ int json_depth(const unsigned char* text, size_t n, int limit) {
     } else if (c == '"') {
       in_string = true;
     } else if (c == '[' || c == '{') {
-      if (++depth > deepest) deepest = depth;
-      if (deepest > limit) return deepest;
+      if (++depth > shape.depth) shape.depth = depth;
+      shape.values += c == '{' ? kJsonObjectCost : 1;
+      if (shape.depth > kMaxJsonDepth || shape.values > kMaxJsonValues) return shape;
     } else if (c == ']' || c == '}') {
       if (depth > 0) --depth;
+    } else if (c == ',' || c == ':') {
+      if (++shape.values > kMaxJsonValues) return shape;
     }
   }
-  return deepest;
+  return shape;
 }
 
 // The JSON text of a .glb (its first chunk), clamped to the bytes present; empty when too short.
@@ -717,12 +727,19 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
       return false;
     }
     const bool binary = size >= 4 && std::memcmp(bytes, "glTF", 4) == 0;
-    // The JSON parsers recurse once per nesting level: refuse deep nesting before they see it.
+    // The JSON parsers recurse once per nesting level, and the glTF parser turns each small object
+    // into a large structure: refuse deep or very large JSON before they see it.
     const unsigned char* json = bytes;
     size_t json_length = size;
     if (binary) glb_json_chunk(bytes, size, &json, &json_length);
-    if (json_depth(json, json_length, kMaxJsonDepth) > kMaxJsonDepth) {
+    const JsonShape shape = json_shape(json, json_length);
+    if (shape.depth > kMaxJsonDepth) {
       *error = "invalid glTF: JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels";
+      return false;
+    }
+    if (shape.values > kMaxJsonValues) {
+      *error = "JSON too large: more than " + std::to_string(kMaxJsonValues) + " values (an object counts " +
+               std::to_string(kJsonObjectCost) + ")";
       return false;
     }
     tinygltf::TinyGLTF loader;
