@@ -57,7 +57,7 @@ EOF
 fi
 
 echo "fuzz-gltf: $(ls "$seeds" | wc -l) seed(s), $(ls "$corpus" | wc -l) corpus file(s), $seconds s"
-"$fuzzer" -max_total_time="$seconds" -max_len="$max_len" -timeout=20 -rss_limit_mb=2048 -malloc_limit_mb=1024 \
+"$fuzzer" -max_total_time="$seconds" -max_len="$max_len" -timeout=20 -dict="$here/gltf.dict" -rss_limit_mb=2048 -malloc_limit_mb=1024 \
   -artifact_prefix="$work/artifacts/" -print_final_stats=1 "$corpus" "$seeds" 2>"$work/log.txt"
 rc=$?
 tail -n 14 "$work/log.txt"
