@@ -21,7 +21,7 @@ constexpr int kMaxJsonDepth = 64;
 // up to about 3 KB on an empty object ("materials":[{},{},...]) and 200-400 bytes on a value or member
 // in "extras", so this keeps its memory near 100 MB and its time near half a second whatever the file.
 // Binary data (a .glb's BIN chunk, base64 buffers, which are strings) does not count. 2CylinderEngine
-// has about 7,000; a scene of 10,000 nodes with names and matrices about 400,000.
+// has about 10,000; a scene of 10,000 nodes with names and matrices about 400,000.
 constexpr uint64_t kMaxJsonValues = uint64_t(1) << 19;
 constexpr uint64_t kJsonObjectCost = 16;
 
