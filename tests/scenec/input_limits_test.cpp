@@ -247,3 +247,33 @@ TEST(ScenecLimits, SharedMeshTotalsAreCheckedBeforeReading) {
   EXPECT_TRUE(ok.ok) << ok.error;
   EXPECT_EQ(ok.report.triangles, 1024u);
 }
+
+TEST(ScenecLimits, NormalsSurviveTinyAndHugeNodeScales) {
+  // A triangle with +z normals under a node scale of 1e-110 (the normal's cofactor transform gives
+  // 1e-220, whose square underflows) and 1e100 (whose square overflows).
+  const std::vector<float> tri = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  for (const char* scale : {"1e-110", "1e100"}) {
+    std::string json = positions_gltf(tri, ",\"NORMAL\":1",
+                                      ",{\"bufferView\":1,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}");
+    const std::vector<float> normals = {0, 0, 1, 0, 0, 1, 0, 0, 1};
+    std::vector<uint8_t> nbytes(36);
+    std::memcpy(nbytes.data(), normals.data(), 36);
+    json.replace(json.find("}],\"accessors\""), 2, "},{\"buffer\":1,\"byteLength\":36}]");
+    json.replace(json.find("}],\"bufferViews\""), 2,
+                 "},{\"byteLength\":36,\"uri\":\"data:application/octet-stream;base64," + base64(nbytes) + "\"}]");
+    json.replace(json.find("{\"mesh\":0}"), std::string("{\"mesh\":0}").size(),
+                 std::string("{\"mesh\":0,\"scale\":[") + scale + "," + scale + "," + scale + "]}");
+    SceneMesh mesh;
+    std::vector<std::string> warnings;
+    std::string error;
+    ASSERT_TRUE(import_gltf_memory(reinterpret_cast<const unsigned char*>(json.data()), json.size(), "", &mesh,
+                                   &warnings, &error))
+        << scale << ": " << error;
+    ASSERT_EQ(mesh.nodes.size(), 1u);
+    ASSERT_EQ(mesh.nodes[0].primitives.size(), 1u);
+    for (const MeshVertex& v : mesh.nodes[0].primitives[0].vertices) {
+      EXPECT_NEAR(v.normal[2], 1.0, 1e-12) << scale;
+      EXPECT_EQ(v.normal[0], 0.0) << scale;
+    }
+  }
+}

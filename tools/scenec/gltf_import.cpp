@@ -114,6 +114,17 @@ bool keep_image_reference(tinygltf::Image*, const int, std::string*, std::string
   return true;
 }
 
+// v / |v| into out, scaled by the largest component first so the squares neither overflow (1e200)
+// nor underflow (1e-200, e.g. a normal under a tiny node scale). Leaves out alone for a zero or
+// non-finite vector.
+void normalize3(const double v[3], double out[3]) {
+  const double largest = std::max(std::fabs(v[0]), std::max(std::fabs(v[1]), std::fabs(v[2])));
+  if (!(largest > 0) || !std::isfinite(largest)) return;
+  const double u[3] = {v[0] / largest, v[1] / largest, v[2] / largest};
+  const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);   // 1..sqrt(3)
+  for (int k = 0; k < 3; ++k) out[k] = u[k] / len;
+}
+
 // ---- 4x4 column-major affine matrices ----------------------------------------------------------------
 
 using Mat4 = std::array<double, 16>;   // m[col * 4 + row]
@@ -663,10 +674,7 @@ class Importer {
           const double* n = &nrm[i * 3];
           double t[3];
           for (int r = 0; r < 3; ++r) t[r] = nsign * (cof[r][0] * n[0] + cof[r][1] * n[1] + cof[r][2] * n[2]);
-          const double len = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
-          if (len > 0 && std::isfinite(len)) {
-            for (int r = 0; r < 3; ++r) v.normal[r] = t[r] / len;
-          }
+          normalize3(t, v.normal);
         }
         if (!uv.empty()) {
           v.uv[0] = uv[i * 2];
