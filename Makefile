@@ -3,7 +3,7 @@
 #   make test     every test, sanitized; last line "N passed, N failed"
 #   make demo     render the bundled scene (and 2CylinderEngine when installed) into out/
 #   make tables   regenerate tables/ from tools/maskgen
-#   make fuzz     run the blob-reader fuzzer for a minute
+#   make fuzz     run the blob-reader and glTF-import fuzzers for a minute each
 #   make bench    instruction counts (callgrind) for both renderers against a z-buffer baseline
 #   make firmware Cortex-M firmware images for QEMU boards into build/firmware/ (docs/firmware.md)
 
@@ -206,12 +206,23 @@ $(BUILD)/fuzz_blob_reader: $(FUZZ_SRC) $(shell find src tables -name '*.h')
 	@mkdir -p $(BUILD)
 	$(CLANGXX) $(CXXSTD) $(INCLUDES) -O1 -g -fno-exceptions -fsanitize=fuzzer,address,undefined -o $@ $(FUZZ_SRC)
 
+# ---- fuzzing: clang libFuzzer over the glTF importer, compiler and both renderers ----
+# Objects in build/fuzz/obj/ (instrumented for coverage), linked with libFuzzer's main.
+FUZZ_GLTF_OBJ := $(patsubst %.cpp,$(BUILD)/fuzz/obj/%.o,tests/fuzz/fuzz_gltf_import.cpp $(CORE_SRC) $(SCENEC_SRC))
+$(BUILD)/fuzz/obj/%.o: %.cpp
+	@mkdir -p $(dir $@)
+	$(CLANGXX) $(CXXSTD) $(INCLUDES) -O1 -g -fsanitize=fuzzer-no-link,address,undefined -MMD -MP -c $< -o $@
+$(BUILD)/fuzz_gltf_import: $(FUZZ_GLTF_OBJ)
+	$(CLANGXX) -O1 -g -fsanitize=fuzzer,address,undefined -o $@ $^
+
 fuzz: bootstrap
-	@$(MAKE) --no-print-directory $(BUILD)/fuzz_blob_reader $(BUILD)/maskline
+	@$(MAKE) --no-print-directory $(BUILD)/fuzz_blob_reader $(BUILD)/fuzz_gltf_import $(BUILD)/maskline
 	bash tests/fuzz/run.sh $(BUILD) 60
+	bash tests/fuzz/run_gltf.sh $(BUILD) 60
 
 test: bootstrap
-	@$(MAKE) --no-print-directory $(BUILD)/san/tests $(BUILD)/san/maskline $(BUILD)/maskgen $(BUILD)/fuzz_blob_reader $(QEMU_FB) $(FW_ELFS)
+	@$(MAKE) --no-print-directory $(BUILD)/san/tests $(BUILD)/san/maskline $(BUILD)/maskgen $(BUILD)/fuzz_blob_reader \
+	  $(BUILD)/fuzz_gltf_import $(QEMU_FB) $(FW_ELFS)
 	@bash tests/run_all.sh $(BUILD) $(MASK_K)
 
 tables: $(BUILD)/maskgen

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Runs every test: the sanitized GoogleTest binary (unit, property, oracle and CLI tests), the
-# blob-reader fuzz smoke run, the framebuffer test under QEMU (tests/qemu-fbdev) and the firmware
-# checks under qemu-system-arm (tests/firmware).
+# Runs every test: the sanitized GoogleTest binary (unit, property, oracle and CLI tests), the fuzz
+# smoke runs of the blob reader and of the glTF importer, the framebuffer test under QEMU
+# (tests/qemu-fbdev) and the firmware checks under qemu-system-arm (tests/firmware).
 # Usage: tests/run_all.sh BUILD MASK_K
 # The last line is exactly "N passed, N failed"; the exit status is non-zero when anything failed.
 set -u
@@ -59,6 +59,20 @@ if [ -f tests/fuzz/run.sh ]; then
 else
   failed=$((failed + 1))
   failures+=("fuzz smoke: tests/fuzz/run.sh is missing")
+fi
+
+# ---- glTF fuzz smoke (one test) ------------------------------------------------------------------
+if [ -f tests/fuzz/run_gltf.sh ]; then
+  echo "fuzz: 15 s smoke run of the glTF importer, compiler and renderers"
+  if bash tests/fuzz/run_gltf.sh "$build" 15 >>"$log" 2>&1; then
+    passed=$((passed + 1))
+  else
+    failed=$((failed + 1))
+    failures+=("glTF fuzz smoke (tests/fuzz/run_gltf.sh $build 15)")
+  fi
+else
+  failed=$((failed + 1))
+  failures+=("glTF fuzz smoke: tests/fuzz/run_gltf.sh is missing")
 fi
 
 # ---- QEMU framebuffer test (one test per screen configuration) ---------------------------------

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 
 #include <algorithm>
 #include <chrono>
@@ -194,7 +195,9 @@ double parse_number(const std::string& option, const std::string& text) {
   errno = 0;
   char* end = nullptr;
   const double v = strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || errno != 0 || !std::isfinite(v))
+  // ERANGE on underflow (1e-310, a subnormal) still gives a usable value; only overflow is refused.
+  const bool range_error = errno != 0 && !(errno == ERANGE && std::fabs(v) <= 1.0);
+  if (text.empty() || *end != '\0' || range_error || !std::isfinite(v))
     usage_error(option + ": expected a finite number, got '" + text + "'");
   return v;
 }
@@ -278,10 +281,13 @@ ml::Camera make_camera(const ml::Scene& scene, const CameraArgs& c, int width, i
     usage_error("--target: outside the world range of this scene");
   if (c.has_eye && !c.has_target) cam.target = center;
   if (c.has_up) {
-    const double len = std::sqrt(c.up[0] * c.up[0] + c.up[1] * c.up[1] + c.up[2] * c.up[2]);
-    if (!(len > 0)) usage_error("--up: must not be zero");
-    cam.up = ml::Vec3i{int32_t(std::llround(c.up[0] / len * (1 << 20))), int32_t(std::llround(c.up[1] / len * (1 << 20))),
-                       int32_t(std::llround(c.up[2] / len * (1 << 20)))};
+    // Scale by the largest component first: squaring 1e300 overflows and squaring 1e-300 underflows.
+    const double largest = std::max(std::fabs(c.up[0]), std::max(std::fabs(c.up[1]), std::fabs(c.up[2])));
+    if (!(largest > 0)) usage_error("--up: must not be zero");
+    const double u[3] = {c.up[0] / largest, c.up[1] / largest, c.up[2] / largest};
+    const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);   // 1..sqrt(3)
+    cam.up = ml::Vec3i{int32_t(std::llround(u[0] / len * (1 << 20))), int32_t(std::llround(u[1] / len * (1 << 20))),
+                       int32_t(std::llround(u[2] / len * (1 << 20)))};
   }
   if (c.has_near) {
     const double n = c.near * map.to_world;
@@ -299,6 +305,21 @@ ml::Camera make_camera(const ml::Scene& scene, const CameraArgs& c, int width, i
   if (!s.ok()) usage_error(std::string("camera: ") + s.message);
   return cam;
 }
+
+// Anonymous zero pages for an arena larger than a render asks for (render --arena).
+struct MappedArena {
+  void* base = MAP_FAILED;
+  size_t bytes = 0;
+  MappedArena() = default;
+  MappedArena(const MappedArena&) = delete;
+  MappedArena& operator=(const MappedArena&) = delete;
+  ~MappedArena() { reset(); }
+  void reset() {
+    if (base != MAP_FAILED) munmap(base, bytes);
+    base = MAP_FAILED;
+    bytes = 0;
+  }
+};
 
 // ---- commands -------------------------------------------------------------------------------------
 
@@ -442,9 +463,21 @@ ml::Stats render_into(const ml::Scene& scene, const ml::Camera& camera, const ml
                       long long arena_override, ml::Sink& sink, const std::string* sink_error = nullptr) {
   const size_t need = ml::render_arena_bytes(scene, camera, o);
   const size_t bytes = arena_override >= 0 ? size_t(arena_override) : need;
-  if (bytes > need + (size_t(1) << 30)) failure("--arena: " + std::to_string(bytes) + " bytes is more than this host gives a frame (the need is " + std::to_string(need) + ")");
-  std::vector<uint64_t> storage((bytes + 7) / 8, 0);
-  ml::Arena arena(storage.data(), bytes);
+  std::vector<uint64_t> storage;
+  MappedArena mapped;
+  void* base = nullptr;
+  if (bytes <= need) {
+    storage.assign((bytes + 7) / 8, 0);
+    base = storage.data();
+  } else {
+    // More than the render needs (--arena): mapped, not allocated, so the pages the render never
+    // touches cost nothing and a size the system cannot provide is one error line.
+    mapped.base = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    if (mapped.base == MAP_FAILED) failure("out of memory: cannot map an arena of " + std::to_string(bytes) + " bytes");
+    mapped.bytes = bytes;
+    base = mapped.base;
+  }
+  ml::Arena arena(base, bytes);
   ml::Stats stats;
   const ml::Status s = ml::render(scene, camera, o, arena, sink, &stats);
   if (s.code == ml::StatusCode::ArenaTooSmall)

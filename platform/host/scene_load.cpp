@@ -1,6 +1,8 @@
 #include "platform/host/scene_load.h"
 
 #include <errno.h>
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
@@ -85,14 +87,22 @@ bool load_scene(const std::string& path, LoadedScene* out, std::string* error, b
   std::string ext = lower_extension(path);
   if (ext != ".glb" && ext != ".gltf" && ext != ".mls") {
     // Unknown extension: decide by the first bytes.
-    FILE* f = fopen(path.c_str(), "rb");
-    if (!f) {
+    // Non-blocking open: a FIFO must not wait for a writer; only regular files are read.
+    const int fd = open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
       *error = "cannot open " + path + ": " + strerror(errno);
       return false;
     }
+    struct stat st;
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+      close(fd);
+      *error = path + ": not a regular file";
+      return false;
+    }
     unsigned char head[4] = {0, 0, 0, 0};
-    const size_t got = fread(head, 1, 4, f);
-    fclose(f);
+    const ssize_t n = read(fd, head, 4);
+    close(fd);
+    const size_t got = n > 0 ? size_t(n) : 0;
     if (got == 4 && memcmp(head, "glTF", 4) == 0) ext = ".glb";
     else if (got == 4 && memcmp(head, "MLSC", 4) == 0) ext = ".mls";
     else if (got >= 1 && head[0] == '{') ext = ".gltf";

@@ -38,6 +38,11 @@ constexpr int32_t kNormalOne = 1 << kNormalBits;
 
 constexpr int kWorldSceneBits = 16;         // the compiler fits the scene inside ±2^16 world units
 constexpr int32_t kWorldLimit = 1 << 24;    // any world point handed to the view pipeline
+// What read_scene accepts from a blob (docs/scene-blob.md, validation): the compiler stays far inside.
+constexpr int32_t kWorldPositionLimit = 1 << 18;          // |dequantized vertex position| < 2^18
+constexpr int32_t kSceneLimit = 1 << 18;                  // bounds, sphere centre, BSP node bounds
+constexpr int32_t kRadiusLimit = 1 << 20;                 // bounding sphere radius
+constexpr int64_t kPlaneOffsetLimit = int64_t(1) << 50;   // |d| of a BSP plane
 constexpr int kViewFractionBits = 4;     // view space keeps 4 bits below the world unit
 constexpr int kViewLimitBits = 30;
 

@@ -22,10 +22,6 @@ constexpr CrcTable kCrcTable;
 // ---- helpers -------------------------------------------------------------------------------------
 
 constexpr uint32_t kSectionTypeCount = 9;      // SectionType values are 1..9
-constexpr int32_t kWorldPositionLimit = 1 << 18;  // |dequantized position| < 2^18
-constexpr int32_t kSceneLimit = 1 << 18;          // bounds and sphere centre
-constexpr int32_t kRadiusLimit = 1 << 20;
-constexpr int64_t kPlaneOffsetLimit = int64_t(1) << 50;
 
 uint32_t element_size(uint32_t type) {
   switch (static_cast<SectionType>(type)) {

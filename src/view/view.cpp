@@ -149,7 +149,12 @@ Camera frame_sphere(const Vec3i& center, int32_t radius, int width, int height, 
   if (tan_half < 1) tan_half = 1;
   // sin = tan / sqrt(1 + tan^2), Q16.
   const int64_t sin_half = div_round(tan_half << 16, int64_t(isqrt64(uint64_t((int64_t(1) << 32) + tan_half * tan_half))));
-  const int64_t distance = div_round(int64_t(radius) * 69 * 1024, max_of<int64_t>(sin_half, 1));  // 1.05 * r / sin
+  int64_t distance = div_round(int64_t(radius) * 69 * 1024, max_of<int64_t>(sin_half, 1));  // 1.05 * r / sin
+  // A very narrow image (1x4096) would put the eye hundreds of radii away, outside the world range:
+  // stop at its edge (|eye| <= |centre| + distance on each axis). The image then shows a slice of the
+  // sphere instead of all of it.
+  const int64_t center_max = max_of<int64_t>(abs64(center.x), max_of<int64_t>(abs64(center.y), abs64(center.z)));
+  distance = max_of<int64_t>(1, min_of<int64_t>(distance, int64_t(kWorldLimit) - 2 - center_max));
   // A three-quarter view from the front, right and above (glTF: +y up, models face +z).
   Vec3i dir;
   normalize_q30(Vec3i{5, 3, 8}, &dir);

@@ -427,4 +427,21 @@ TEST(ViewCamera, FrameSphereKeepsTheSphereOnScreen) {
   }
 }
 
+TEST(ViewCamera, FrameSphereWorksForEverySize) {
+  // The compiler's largest sphere (radius sqrt(3) * 2^16) at the origin and off it: very narrow or
+  // very short images used to put the eye outside the world range.
+  const std::vector<int> sides = {1, 2, 3, 7, 45, 89, 90, 100, 240, 1000, 2047, 4095, 4096};
+  // Also the extremes read_scene accepts (centre below 2^18, radius below 2^20).
+  for (const Vec3i centre : {Vec3i{0, 0, 0}, Vec3i{65536, -65536, 65536}, Vec3i{ml::kSceneLimit - 1, 1 - ml::kSceneLimit, 0}})
+    for (int32_t radius : {1, 1000, 113512, ml::kRadiusLimit - 1})
+      for (int fov : {1, 45, 170})
+        for (int w : sides)
+          for (int h : sides) {
+            const Camera c = ml::frame_sphere(centre, radius, w, h, int32_t(fov << 16));
+            View v;
+            const ml::Status s = ml::make_view(c, &v);
+            ASSERT_TRUE(s.ok()) << w << "x" << h << " radius " << radius << " fov " << fov << ": " << s.message;
+          }
+}
+
 }  // namespace

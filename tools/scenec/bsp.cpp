@@ -156,7 +156,13 @@ class Builder {
       const Plane plane = choose_plane(task.pieces, task.axis_nodes < kMaxAxisNodesOnPath, &axis, &plane_triangle);
       Task front, back;
       std::vector<Piece> on;
-      partition(plane, task.pieces, &on, &front.pieces, &back.pieces);
+      if (!axis && plane_triangle == kNone) {
+        // Only degenerate pieces left (no piece has a plane): they draw nothing and no plane separates
+        // them, so they all stay in this leaf.
+        on = std::move(task.pieces);
+      } else {
+        partition(plane, task.pieces, &on, &front.pieces, &back.pieces);
+      }
       if (on.empty() && plane_triangle != kNone && (front.pieces.empty() || back.pieces.empty())) {
         // No progress: the chosen triangle's pieces drifted out of the band (quantized split points).
         // They are within a few quantization steps of its plane, so they stay in this node.
@@ -308,7 +314,8 @@ class Builder {
       *triangle = best_tri_id;
       return best_tri;
     }
-    // Only degenerate triangles left: they draw nothing, so any plane will do.
+    // Only degenerate triangles left: they draw nothing, so any plane will do (run() keeps them all in
+    // the node).
     Plane any{};
     any.n[0] = kUnitOne;
     any.d = int64_t(world_[pieces[0].v[0]].x) * kUnitOne;

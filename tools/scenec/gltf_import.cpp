@@ -16,15 +16,72 @@
 
 #include <tiny_gltf.h>
 
+#include "tools/scenec/limits.h"
 #include "tools/scenec/scenec.h"
 
 namespace ml {
 namespace {
 
-constexpr size_t kMaxAccessorCount = size_t(1) << 28;
-constexpr size_t kMaxNodeInstances = size_t(1) << 20;
-constexpr size_t kMaxTriangles = size_t(1) << 27;
-constexpr size_t kMaxFileBytes = size_t(1) << 31;
+// What the raw JSON text of a glTF will cost the parsers, measured before they run: nesting depth
+// ('[' and '{' outside strings, escapes respected) and values (each ',', ':' and '[' outside strings
+// counts 1, each '{' counts kJsonObjectCost). The scan stops as soon as either limit is passed.
+struct JsonShape {
+  int depth = 0;
+  uint64_t values = 0;
+};
+
+JsonShape json_shape(const unsigned char* text, size_t n) {
+  JsonShape shape;
+  int depth = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < n; ++i) {
+    const unsigned char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;   // the escaped character cannot end the string
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > shape.depth) shape.depth = depth;
+      shape.values += c == '{' ? kJsonObjectCost : 1;
+      if (shape.depth > kMaxJsonDepth || shape.values > kMaxJsonValues) return shape;
+    } else if (c == ']' || c == '}') {
+      if (depth > 0) --depth;
+    } else if (c == ',' || c == ':') {
+      if (++shape.values > kMaxJsonValues) return shape;
+    }
+  }
+  return shape;
+}
+
+// The JSON text of a .glb (its first chunk), clamped to the bytes present; empty when too short.
+void glb_json_chunk(const unsigned char* bytes, size_t size, const unsigned char** json, size_t* length) {
+  *json = nullptr;
+  *length = 0;
+  if (size < 20) return;
+  uint32_t chunk_length;
+  std::memcpy(&chunk_length, bytes + 12, 4);
+  *json = bytes + 20;
+  *length = std::min<size_t>(chunk_length, size - 20);
+}
+
+// External files (buffers and images given by path) are read like the input itself: regular files
+// of at most kMaxGltfFileBytes. With external files off (compiling from memory), none is read.
+bool read_external_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+  std::string error;
+  if (read_input_file(path, kMaxGltfFileBytes, out, &error)) return true;
+  if (err) *err += error + "\n";
+  return false;
+}
+bool no_file_exists(const std::string&, void*) { return false; }
+bool no_file_read(std::vector<unsigned char>*, std::string* err, const std::string& path, void*) {
+  if (err) *err += "external file " + path + " is not read here\n";
+  return false;
+}
+bool no_file_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err) *err += "files are not written here\n";
+  return false;
+}
 
 // One line: newlines become "; ", trailing separators and blanks go.
 std::string one_line(const std::string& text) {
@@ -55,6 +112,17 @@ std::vector<std::string> split_lines(const std::string& text) {
 bool keep_image_reference(tinygltf::Image*, const int, std::string*, std::string*, int, int,
                           const unsigned char*, int, void*) {
   return true;
+}
+
+// v / |v| into out, scaled by the largest component first so the squares neither overflow (1e200)
+// nor underflow (1e-200, e.g. a normal under a tiny node scale). Leaves out alone for a zero or
+// non-finite vector.
+void normalize3(const double v[3], double out[3]) {
+  const double largest = std::max(std::fabs(v[0]), std::max(std::fabs(v[1]), std::fabs(v[2])));
+  if (!(largest > 0) || !std::isfinite(largest)) return;
+  const double u[3] = {v[0] / largest, v[1] / largest, v[2] / largest};
+  const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);   // 1..sqrt(3)
+  for (int k = 0; k < 3; ++k) out[k] = u[k] / len;
 }
 
 // ---- 4x4 column-major affine matrices ----------------------------------------------------------------
@@ -182,6 +250,7 @@ class Importer {
         mesh_.materials[m].texture = kNone;
       }
     }
+    if (!check_totals(roots)) return false;
     on_path_.assign(model_.nodes.size(), 0);
     for (int root : roots) {
       if (!visit(root)) return false;
@@ -281,6 +350,71 @@ class Importer {
     return default_material_;
   }
 
+  // Accessor element count, or 0 when the index is out of range (reported when it is read).
+  size_t accessor_count(int index) const {
+    return index >= 0 && size_t(index) < model_.accessors.size() ? model_.accessors[size_t(index)].count : 0;
+  }
+
+  // Node instances, vertices and triangles of the whole scene from accessor counts alone, before
+  // anything is read: a small file whose nodes share a mesh many times is refused up front instead of
+  // after allocating its way to a limit. Malformed graphs (cycles, bad indices) are left to visit().
+  bool check_totals(const std::vector<int>& roots) {
+    std::vector<size_t> mesh_vertices(model_.meshes.size(), 0), mesh_triangles(model_.meshes.size(), 0);
+    for (size_t m = 0; m < model_.meshes.size(); ++m) {
+      for (const tinygltf::Primitive& prim : model_.meshes[m].primitives) {
+        const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+        const auto pos = prim.attributes.find("POSITION");
+        if (pos == prim.attributes.end()) continue;
+        const size_t v = std::min(accessor_count(pos->second), kMaxAccessorCount);
+        const size_t n = std::min(prim.indices >= 0 ? accessor_count(prim.indices) : v, kMaxAccessorCount);
+        size_t t = 0;
+        if (mode == TINYGLTF_MODE_TRIANGLES) t = n / 3;
+        else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP || mode == TINYGLTF_MODE_TRIANGLE_FAN) t = n > 2 ? n - 2 : 0;
+        else continue;
+        mesh_vertices[m] += v;
+        mesh_triangles[m] += t;
+      }
+    }
+    std::vector<char> on_path(model_.nodes.size(), 0);
+    size_t instances = 0, vertices = 0, triangles = 0;
+    struct Item {
+      int node;
+      size_t next_child;
+    };
+    std::vector<Item> stack;
+    auto enter_node = [&](int n) {
+      if (n < 0 || size_t(n) >= model_.nodes.size() || on_path[size_t(n)]) return false;
+      const tinygltf::Node& node = model_.nodes[size_t(n)];
+      ++instances;
+      if (node.mesh >= 0 && size_t(node.mesh) < model_.meshes.size()) {
+        vertices += mesh_vertices[size_t(node.mesh)];
+        triangles += mesh_triangles[size_t(node.mesh)];
+      }
+      on_path[size_t(n)] = 1;
+      stack.push_back(Item{n, 0});
+      return true;
+    };
+    for (int root : roots) {
+      if (!enter_node(root)) return true;
+      while (!stack.empty()) {
+        if (instances > kMaxNodeInstances) return fail("too many node instances (node graph too large)");
+        if (triangles > kMaxTriangles) return fail("too many triangles (" + std::to_string(triangles) + " or more)");
+        if (vertices > kMaxVertices) return fail("too many vertices (" + std::to_string(vertices) + " or more)");
+        Item& top = stack.back();
+        const tinygltf::Node& node = model_.nodes[size_t(top.node)];
+        if (top.next_child < node.children.size()) {
+          if (!enter_node(node.children[top.next_child++])) return true;
+        } else {
+          on_path[size_t(top.node)] = 0;
+          stack.pop_back();
+        }
+      }
+    }
+    if (triangles > kMaxTriangles) return fail("too many triangles (" + std::to_string(triangles) + ")");
+    if (vertices > kMaxVertices) return fail("too many vertices (" + std::to_string(vertices) + ")");
+    return true;
+  }
+
   // Depth-first pre-order over the node graph from `root`, children in order, with an explicit stack.
   bool visit(int root) {
     std::vector<Frame> stack;
@@ -349,10 +483,10 @@ class Importer {
     if (acc.count > kMaxAccessorCount) return fail(where + ": count too large");
     const size_t count = acc.count;
     const size_t elem = size_t(csize) * size_t(components);
-    out->assign(count * size_t(components), 0.0);
+    // Every check on the sizes comes before the allocation: a small file may claim a huge count.
+    const unsigned char* data = nullptr;
+    size_t length = 0, stride = 0;
     if (acc.bufferView >= 0) {
-      const unsigned char* data = nullptr;
-      size_t length = 0, stride = 0;
       if (!view_bytes(acc.bufferView, where, &data, &length, &stride)) return false;
       if (stride == 0) stride = elem;
       if (stride < elem || stride > 252 || stride % size_t(csize) != 0) return fail(where + ": bad byte stride");
@@ -361,6 +495,15 @@ class Importer {
         const uint64_t need = uint64_t(acc.byteOffset) + uint64_t(count - 1) * stride + elem;
         if (need > length) return fail(where + ": data outside its buffer view");
       }
+    } else if (acc.bufferView < -1) {
+      return fail(where + ": buffer view index out of range");
+    } else {
+      // No buffer view: zeros (and sparse values) that nothing in the file backs.
+      unbacked_elements_ += count;
+      if (unbacked_elements_ > kMaxUnbackedElements) return fail(where + ": too many elements without a buffer view");
+    }
+    out->assign(count * size_t(components), 0.0);
+    if (acc.bufferView >= 0) {
       for (size_t i = 0; i < count; ++i) {
         const unsigned char* p = data + acc.byteOffset + i * stride;
         for (int c = 0; c < components; ++c) {
@@ -368,8 +511,6 @@ class Importer {
               component_value(p + size_t(c) * size_t(csize), acc.componentType, acc.normalized);
         }
       }
-    } else if (acc.bufferView < -1) {
-      return fail(where + ": buffer view index out of range");
     }
     if (acc.sparse.isSparse && !apply_sparse(acc, components, csize, where, out)) return false;
     for (double v : *out) {
@@ -533,10 +674,7 @@ class Importer {
           const double* n = &nrm[i * 3];
           double t[3];
           for (int r = 0; r < 3; ++r) t[r] = nsign * (cof[r][0] * n[0] + cof[r][1] * n[1] + cof[r][2] * n[2]);
-          const double len = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
-          if (len > 0 && std::isfinite(len)) {
-            for (int r = 0; r < 3; ++r) v.normal[r] = t[r] / len;
-          }
+          normalize3(t, v.normal);
         }
         if (!uv.empty()) {
           v.uv[0] = uv[i * 2];
@@ -574,6 +712,7 @@ class Importer {
   uint32_t default_material_ = kNone;
   bool warned_skin_ = false;
   size_t total_triangles_ = 0;
+  size_t unbacked_elements_ = 0;
 };
 
 std::string base_dir_of(const std::string& path) {
@@ -583,39 +722,55 @@ std::string base_dir_of(const std::string& path) {
 
 }  // namespace
 
-bool import_gltf_file(const std::string& path, SceneMesh* mesh, std::vector<std::string>* warnings,
-                      std::string* error) {
+bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::string& base_dir, SceneMesh* mesh,
+                        std::vector<std::string>* warnings, std::string* error) {
   *mesh = SceneMesh();
   try {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-      *error = "cannot open " + path + ": " + std::strerror(errno);
+    if (size == 0) {
+      *error = "file is empty";
       return false;
     }
-    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) {
-      *error = "cannot read " + path;
-      return false;
-    }
-    if (bytes.size() >= kMaxFileBytes) {
+    if (size > kMaxGltfFileBytes) {
       *error = "file too large for glTF";
       return false;
     }
-    if (bytes.empty()) {
-      *error = "file is empty";
+    const bool binary = size >= 4 && std::memcmp(bytes, "glTF", 4) == 0;
+    // The JSON parsers recurse once per nesting level, and the glTF parser turns each small object
+    // into a large structure: refuse deep or very large JSON before they see it.
+    const unsigned char* json = bytes;
+    size_t json_length = size;
+    if (binary) glb_json_chunk(bytes, size, &json, &json_length);
+    const JsonShape shape = json_shape(json, json_length);
+    if (shape.depth > kMaxJsonDepth) {
+      *error = "invalid glTF: JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels";
+      return false;
+    }
+    if (shape.values > kMaxJsonValues) {
+      *error = "JSON too large: more than " + std::to_string(kMaxJsonValues) + " values (an object counts " +
+               std::to_string(kJsonObjectCost) + ")";
       return false;
     }
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&keep_image_reference, nullptr);
+    tinygltf::FsCallbacks fs{};
+    fs.ExpandFilePath = &tinygltf::ExpandFilePath;
+    fs.WriteWholeFile = &no_file_write;
+    if (base_dir.empty()) {
+      fs.FileExists = &no_file_exists;
+      fs.ReadWholeFile = &no_file_read;
+    } else {
+      fs.FileExists = &tinygltf::FileExists;
+      fs.ReadWholeFile = &read_external_file;
+    }
+    loader.SetFsCallbacks(fs);
     tinygltf::Model model;
     std::string err, warn;
-    const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
     bool ok;
     if (binary) {
-      ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), base_dir_of(path));
+      ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes, unsigned(size), base_dir);
     } else {
-      ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
-                                      unsigned(bytes.size()), base_dir_of(path));
+      ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes), unsigned(size),
+                                      base_dir);
     }
     for (const std::string& w : split_lines(warn)) {
       if (warnings->size() < 100) warnings->push_back(w);
@@ -624,7 +779,7 @@ bool import_gltf_file(const std::string& path, SceneMesh* mesh, std::vector<std:
       const std::string e = one_line(err);
       *error = e.empty() ? std::string("invalid glTF") : "invalid glTF: " + e;
       static const char kDraco[] = "KHR_draco_mesh_compression";
-      if (std::search(bytes.begin(), bytes.end(), kDraco, kDraco + sizeof(kDraco) - 1) != bytes.end()) {
+      if (std::search(bytes, bytes + size, kDraco, kDraco + sizeof(kDraco) - 1) != bytes + size) {
         *error = std::string(kDraco) + " is not supported (" + (e.empty() ? std::string("invalid glTF") : e) + ")";
       }
       return false;
@@ -643,6 +798,29 @@ bool import_gltf_file(const std::string& path, SceneMesh* mesh, std::vector<std:
     *error = "invalid glTF: unknown parse failure";
   }
   return false;
+}
+
+bool import_gltf_file(const std::string& path, SceneMesh* mesh, std::vector<std::string>* warnings,
+                      std::string* error) {
+  *mesh = SceneMesh();
+  std::vector<unsigned char> bytes;
+  if (!read_input_file(path, kMaxGltfFileBytes, &bytes, error)) return false;
+  return import_gltf_memory(bytes.data(), bytes.size(), base_dir_of(path), mesh, warnings, error);
+}
+
+CompileResult compile_gltf_memory(const unsigned char* bytes, size_t size, const CompileOptions& options) {
+  SceneMesh mesh;
+  std::vector<std::string> warnings;
+  std::string error;
+  CompileResult result;
+  if (!import_gltf_memory(bytes, size, "", &mesh, &warnings, &error)) {
+    result.error = error;
+    result.warnings = std::move(warnings);
+    return result;
+  }
+  result = compile_mesh(mesh, options);
+  result.warnings.insert(result.warnings.begin(), warnings.begin(), warnings.end());
+  return result;
 }
 
 CompileResult compile_gltf_file(const std::string& path, const CompileOptions& options) {

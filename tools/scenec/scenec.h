@@ -37,7 +37,11 @@ struct Blob {
   void assign(const void* src, size_t n);
 };
 
-// Reads a whole file into *out. On failure returns false with a one-line *error.
+// Reads a whole regular file of at most max_bytes into *out (devices, pipes and directories are
+// refused before any byte is read; the limits are in tools/scenec/limits.h). On failure returns false
+// with a one-line *error.
+bool read_input_file(const std::string& path, uint64_t max_bytes, std::vector<uint8_t>* out, std::string* error);
+// Reads a whole .mls file (read_input_file with kMaxBlobFileBytes) into *out. On failure returns false with a one-line *error.
 bool load_blob_file(const std::string& path, Blob* out, std::string* error);
 // Writes blob.size bytes to path (replacing it). On failure returns false with a one-line *error.
 bool save_blob_file(const std::string& path, const Blob& blob, std::string* error);
@@ -138,6 +142,14 @@ CompileResult compile_gltf_file(const std::string& path, const CompileOptions& o
 // glTF 2.0 -> SceneMesh only (no normalization). Returns false with a one-line *error.
 bool import_gltf_file(const std::string& path, SceneMesh* mesh, std::vector<std::string>* warnings,
                       std::string* error);
+
+// The same from bytes in memory (.glb when they start with "glTF", else .gltf). External files named
+// by the glTF are read from base_dir; with an empty base_dir none is read (data: URIs still work).
+bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::string& base_dir, SceneMesh* mesh,
+                        std::vector<std::string>* warnings, std::string* error);
+// compile_gltf_file on bytes in memory, reading no external file.
+CompileResult compile_gltf_memory(const unsigned char* bytes, size_t size,
+                                  const CompileOptions& options = CompileOptions());
 
 // The shared back end: validate, normalize (bbox centre -> origin, largest half-extent -> 2^16 world
 // units), quantize each batch to int16 over its own box, build the BSP, write and checksum the blob.
