@@ -1,4 +1,4 @@
-// Helpers shared by the scene tests (tests/scene/*): cached compiled scenes, temp files, blob surgery.
+// Helpers shared by the scene reader tests (tests/scene/) and the compiler tests (tests/scenec/): cached compiled scenes, temp files, blob surgery.
 #pragma once
 #include <cstdio>
 #include <cstdlib>
