@@ -15,15 +15,8 @@ namespace {
 
 using clitest::run_cli;
 using clitest::RunResult;
-
-void expect_one_line_error(const RunResult& r, int code, const std::string& what) {
-  EXPECT_FALSE(r.sanitizer_report()) << what << ": " << r.describe();
-  EXPECT_FALSE(r.signaled || r.timed_out) << what << ": " << r.describe();
-  EXPECT_EQ(r.exit_code, code) << what << ": " << r.describe();
-  const auto lines = r.err_lines();
-  ASSERT_EQ(lines.size(), 1u) << what << ": " << r.describe();
-  EXPECT_EQ(lines[0].rfind("maskline: ", 0), 0u) << what << ": " << lines[0];
-}
+using clitest::expect_one_line_error;
+using clitest::json_int;
 
 void expect_success(const RunResult& r, const std::string& what) {
   EXPECT_FALSE(r.sanitizer_report()) << what << ": " << r.describe();
@@ -31,15 +24,11 @@ void expect_success(const RunResult& r, const std::string& what) {
   EXPECT_TRUE(r.err.empty()) << what << ": " << r.err;
 }
 
-class CliHostile : public ::testing::Test {
+class CliHostile : public clitest::TempDirTest {
  protected:
-  void SetUp() override { dir_ = clitest::make_temp_dir(); }
-  void TearDown() override { clitest::remove_tree(dir_); }
-  std::string path(const std::string& name) const { return dir_ + "/" + name; }
   void write_text(const std::string& name, const std::string& text) {
     clitest::write_bytes(path(name), std::vector<unsigned char>(text.begin(), text.end()));
   }
-  std::string dir_;
 };
 
 TEST_F(CliHostile, DeepJsonIsOneLine) {

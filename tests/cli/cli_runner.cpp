@@ -163,4 +163,20 @@ std::string engine_glb() {
   return file_exists(p) ? p : "";
 }
 
+void expect_one_line_error(const RunResult& r, int code, const std::string& what) {
+  EXPECT_FALSE(r.sanitizer_report()) << what << ": " << r.describe();
+  EXPECT_FALSE(r.signaled || r.timed_out) << what << ": " << r.describe();
+  EXPECT_EQ(r.exit_code, code) << what << ": " << r.describe();
+  const auto lines = r.err_lines();
+  ASSERT_EQ(lines.size(), 1u) << what << ": " << r.describe();
+  EXPECT_EQ(lines[0].rfind("maskline: ", 0), 0u) << what << ": " << lines[0];
+}
+
+long long json_int(const std::string& json, const std::string& key) {
+  const std::string k = "\"" + key + "\":";
+  const size_t at = json.find(k);
+  if (at == std::string::npos) return -1;
+  return std::stoll(json.substr(at + k.size()));
+}
+
 }  // namespace clitest

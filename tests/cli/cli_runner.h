@@ -1,6 +1,8 @@
 // Runs the CLI binary as a child process for the Cli* tests: captures stdout and stderr, enforces a
 // timeout, and tells a clean exit from a crash or a sanitizer report.
 #pragma once
+#include <gtest/gtest.h>
+
 #include <string>
 #include <vector>
 
@@ -34,5 +36,21 @@ void write_bytes(const std::string& path, const std::vector<unsigned char>& byte
 
 // The assimp test model the issues name, or "" when assimp-testmodels is not installed.
 std::string engine_glb();
+
+// GoogleTest checks shared by the CLI suites: exit `code` with exactly one "maskline: ..." line on
+// stderr, no crash, no sanitizer report.
+void expect_one_line_error(const RunResult& r, int code, const std::string& what);
+
+// Integer field `key` of a flat JSON object (as --stats prints), or -1.
+long long json_int(const std::string& json, const std::string& key);
+
+// A test fixture with a fresh temporary directory.
+class TempDirTest : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = make_temp_dir(); }
+  void TearDown() override { remove_tree(dir_); }
+  std::string path(const std::string& name) const { return dir_ + "/" + name; }
+  std::string dir_;
+};
 
 }  // namespace clitest

@@ -12,32 +12,15 @@ namespace {
 
 using clitest::run_cli;
 using clitest::RunResult;
+using clitest::expect_one_line_error;
+using clitest::json_int;
 
-class CliShow : public ::testing::Test {
- protected:
-  void SetUp() override { dir_ = clitest::make_temp_dir(); }
-  void TearDown() override { clitest::remove_tree(dir_); }
-  std::string path(const std::string& name) const { return dir_ + "/" + name; }
-  std::string dir_;
-};
-
-long long json_int(const std::string& json, const std::string& key) {
-  const std::string k = "\"" + key + "\":";
-  const size_t at = json.find(k);
-  return at == std::string::npos ? -1 : std::stoll(json.substr(at + k.size()));
-}
+using CliShow = clitest::TempDirTest;
 
 std::vector<uint32_t> png(const std::string& file, int* w, int* h) {
   std::vector<uint32_t> px;
   EXPECT_EQ(mlhost::read_png(file, w, h, &px, false), "") << file;
   return px;
-}
-
-void expect_one_line_error(const RunResult& r, int code, const std::string& what) {
-  EXPECT_FALSE(r.sanitizer_report() || r.signaled || r.timed_out) << what << ": " << r.describe();
-  EXPECT_EQ(r.exit_code, code) << what << ": " << r.describe();
-  ASSERT_EQ(r.err_lines().size(), 1u) << what << ": " << r.describe();
-  EXPECT_EQ(r.err_lines()[0].rfind("maskline: ", 0), 0u) << what;
 }
 
 // The emulator decodes the bytes on the bus into exactly the picture `render` gives in the panel's

@@ -14,32 +14,10 @@ namespace {
 
 using clitest::run_cli;
 using clitest::RunResult;
+using clitest::expect_one_line_error;
+using clitest::json_int;
 
-// Exit `code` with exactly one "maskline: ..." line on stderr and no crash.
-void expect_one_line_error(const RunResult& r, int code, const std::string& what) {
-  EXPECT_FALSE(r.sanitizer_report()) << what << ": " << r.describe();
-  EXPECT_FALSE(r.signaled || r.timed_out) << what << ": " << r.describe();
-  EXPECT_EQ(r.exit_code, code) << what << ": " << r.describe();
-  const auto lines = r.err_lines();
-  ASSERT_EQ(lines.size(), 1u) << what << ": " << r.describe();
-  EXPECT_EQ(lines[0].rfind("maskline: ", 0), 0u) << what << ": " << lines[0];
-}
-
-class CliTemp : public ::testing::Test {
- protected:
-  void SetUp() override { dir_ = clitest::make_temp_dir(); }
-  void TearDown() override { clitest::remove_tree(dir_); }
-  std::string path(const std::string& name) const { return dir_ + "/" + name; }
-  std::string dir_;
-};
-
-// Integer field `key` of a flat JSON object, or -1.
-long long json_int(const std::string& json, const std::string& key) {
-  const std::string k = "\"" + key + "\":";
-  const size_t at = json.find(k);
-  if (at == std::string::npos) return -1;
-  return std::stoll(json.substr(at + k.size()));
-}
+using CliTemp = clitest::TempDirTest;
 
 // The text after `prefix` on the line that starts with it (within `text`), or "".
 std::string after(const std::string& text, const std::string& prefix) {
