@@ -43,6 +43,22 @@ inline std::string temp_dir() {
   return std::string(dir);
 }
 
+// Base64 text of bytes (glTF data: URIs in generated test files).
+inline std::string base64(const std::vector<uint8_t>& data) {
+  static const char* kTable = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < data.size(); i += 3) {
+    uint32_t v = uint32_t(data[i]) << 16;
+    if (i + 1 < data.size()) v |= uint32_t(data[i + 1]) << 8;
+    if (i + 2 < data.size()) v |= data[i + 2];
+    out += kTable[(v >> 18) & 63];
+    out += kTable[(v >> 12) & 63];
+    out += i + 1 < data.size() ? kTable[(v >> 6) & 63] : '=';
+    out += i + 2 < data.size() ? kTable[v & 63] : '=';
+  }
+  return out;
+}
+
 inline void write_file(const std::string& path, const std::string& text) {
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) return;

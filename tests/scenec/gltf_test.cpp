@@ -17,6 +17,7 @@
 #include "tests/scene/scene_test_util.h"
 
 using namespace ml;
+using scenetest::base64;
 
 namespace {
 
@@ -25,21 +26,6 @@ float bits_to_float(uint32_t u) {
   float f;
   std::memcpy(&f, &u, 4);
   return f;
-}
-
-std::string base64(const std::vector<uint8_t>& data) {
-  static const char* kTable = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < data.size(); i += 3) {
-    uint32_t v = uint32_t(data[i]) << 16;
-    if (i + 1 < data.size()) v |= uint32_t(data[i + 1]) << 8;
-    if (i + 2 < data.size()) v |= data[i + 2];
-    out += kTable[(v >> 18) & 63];
-    out += kTable[(v >> 12) & 63];
-    out += i + 1 < data.size() ? kTable[(v >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? kTable[v & 63] : '=';
-  }
-  return out;
 }
 
 std::string compile_error(const std::string& path) {

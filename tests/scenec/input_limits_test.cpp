@@ -16,23 +16,9 @@
 #include "tools/scenec/limits.h"
 
 using namespace ml;
+using scenetest::base64;
 
 namespace {
-
-std::string base64(const std::vector<uint8_t>& data) {
-  static const char* kTable = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < data.size(); i += 3) {
-    uint32_t v = uint32_t(data[i]) << 16;
-    if (i + 1 < data.size()) v |= uint32_t(data[i + 1]) << 8;
-    if (i + 2 < data.size()) v |= data[i + 2];
-    out += kTable[(v >> 18) & 63];
-    out += kTable[(v >> 12) & 63];
-    out += i + 1 < data.size() ? kTable[(v >> 6) & 63] : '=';
-    out += i + 2 < data.size() ? kTable[v & 63] : '=';
-  }
-  return out;
-}
 
 // A .gltf with float VEC3 positions (one primitive, one node) and an optional extra accessor JSON.
 std::string positions_gltf(const std::vector<float>& xyz, const std::string& attributes_extra = "",
