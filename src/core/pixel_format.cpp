@@ -156,7 +156,7 @@ namespace {
 
 // Rows of whole-byte formats without dithering: one loop per format, nothing decided per pixel.
 template <typename Store>
-void put_bytes(uint8_t* at, int bytes, const Pixel* pixels, int n, Store store) {
+void put_bytes(uint8_t* at, int bytes, const Pixel* pixels, int n, Store&& store) {
   for (int i = 0; i < n; ++i, at += bytes) store(at, pixels[i]);
 }
 
@@ -177,29 +177,48 @@ inline uint32_t rgb565_of(Pixel p) {
          kRgb565.five[blue_of(p)];
 }
 
+// Rows are mostly runs of one colour (a surface's flat or reused shade): a colour is converted once
+// a run.
+struct Rgb565Cache {
+  Pixel last = 0;
+  uint32_t value = 0;
+  uint32_t operator()(Pixel p) {
+    if (p != last) {
+      last = p;
+      value = rgb565_of(p);
+    }
+    return value;
+  }
+};
+
 bool put_row_fast(PixelFormat format, uint8_t* line, int x, const Pixel* pixels, int n) {
   switch (format) {
     case PixelFormat::Rgb565Be:
-      put_bytes(line + 2 * x, 2, pixels, n, [](uint8_t* at, Pixel p) {
-        const uint32_t v = rgb565_of(p);
+      put_bytes(line + 2 * x, 2, pixels, n, [cache = Rgb565Cache()](uint8_t* at, Pixel p) mutable {
+        const uint32_t v = cache(p);
         at[0] = uint8_t(v >> 8);
         at[1] = uint8_t(v);
       });
       return true;
     case PixelFormat::Rgb565Le:
-      put_bytes(line + 2 * x, 2, pixels, n, [](uint8_t* at, Pixel p) {
-        const uint32_t v = rgb565_of(p);
+      put_bytes(line + 2 * x, 2, pixels, n, [cache = Rgb565Cache()](uint8_t* at, Pixel p) mutable {
+        const uint32_t v = cache(p);
         at[0] = uint8_t(v);
         at[1] = uint8_t(v >> 8);
       });
       return true;
     case PixelFormat::Xrgb8888:
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+      // A Pixel is 0x00RRGGBB: in little-endian memory it already is B, G, R, 0.
+      memcpy(line + 4 * x, pixels, size_t(n) * 4);
+#else
       put_bytes(line + 4 * x, 4, pixels, n, [](uint8_t* at, Pixel p) {
         at[0] = uint8_t(p);
         at[1] = uint8_t(p >> 8);
         at[2] = uint8_t(p >> 16);
         at[3] = 0;
       });
+#endif
       return true;
     case PixelFormat::Id32:
       memcpy(line + 4 * x, pixels, size_t(n) * 4);
