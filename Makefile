@@ -5,6 +5,7 @@
 #   make tables   regenerate tables/ from tools/maskgen
 #   make fuzz     run the blob-reader and glTF-import fuzzers for a minute each
 #   make bench    instruction counts (callgrind) for both renderers against a z-buffer baseline
+#   make bench-board  instructions a frame, flash and RAM of the firmware images under QEMU
 #   make firmware Cortex-M firmware images for QEMU boards into build/firmware/ (docs/firmware.md)
 
 BUILD   ?= build
@@ -44,7 +45,7 @@ SCENEC_SOBJ:= $(call san,$(SCENEC_SRC))
 HOST_SOBJ  := $(call san,$(HOST_SRC))
 TEST_SOBJ  := $(call san,$(TEST_SRC))
 
-.PHONY: all test demo tables fuzz bench clean bootstrap
+.PHONY: all test demo tables fuzz bench bench-board clean bootstrap
 # Every entry target installs missing packages first, then builds in a sub-make: with -j the compiles
 # must not start before the headers they need are installed. Parallel by default (2 cores).
 ifeq ($(MAKELEVEL),0)
@@ -234,6 +235,10 @@ demo: all
 bench: all
 	@$(MAKE) --no-print-directory $(BUILD)/bench $(BUILD)/sort_bench
 	@bash tools/bench/run.sh $(BUILD)
+
+# the firmware images under QEMU: instructions a frame, flash and RAM (docs/benchmarks.md, Boards)
+bench-board: firmware
+	@bash tools/bench/board.sh $(BUILD)
 
 clean:
 	rm -rf $(BUILD) out
