@@ -33,6 +33,7 @@ Status render(const Scene& scene, const Camera& camera, const RenderOptions& giv
   const Status s = options.renderer == RendererKind::Tiler
                        ? tiler_render(scene, camera, options, arena, sink, out)
                        : scanline_render(scene, camera, options, arena, sink, out);
+  out->sink_calls = out->bands;  // one flush a band
   out->display_bytes = sink.counters.bytes;
   out->display_windows = sink.counters.windows;
   return s;

@@ -672,7 +672,6 @@ struct Renderer {
     out.put_row(0, py, row, s.width);
     stats->pixel_writes += uint32_t(s.width);
     if (py + 1 < out.band_top(band) + out.band_height(band)) return ok_status();
-    ++stats->sink_calls;
     ++stats->bands;
     return out.finish_band();
   }

@@ -391,7 +391,6 @@ Status TilerFrame::render_band(int band, Arena& arena) {
   st_->cells_visited = tiler_.cells_visited;
   arena.release_to(mark);
   ++st_->bands;
-  ++st_->sink_calls;
   return out_.finish_band();
 }
 
