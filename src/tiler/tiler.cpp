@@ -283,6 +283,8 @@ class TilerFrame {
 
  private:
   Status render_band(int band, Arena& arena);
+  // The BSP front to back into the band's pyramid, until the band is covered.
+  Status walk_bsp();
   // Projects, culls and tiles one piece into the band's pyramid.
   Status draw_piece(const BspPiece& piece);
   Status finish(Status s, const Arena& arena) {
@@ -340,7 +342,19 @@ Status TilerFrame::render_band(int band, Arena& arena) {
   tiler_.init(&pyramid_, kSubpixelOne, options_.work, band_.top);
   tiler_.cells_visited = cells;
   writer_->begin_band(band_.top);
+  s = walk_bsp();
+  if (!s.ok()) return s;
+  writer_->begin_background(options_.shading == ShadingMode::Ids ? 0 : options_.background);
+  const uint64_t before = tiler_.cells_visited;
+  if (!tiler_.background(*writer_)) return error(StatusCode::SinkFailed, "sink refused a write");
+  tiler_.cells_visited = before;
+  st_->cells_visited = tiler_.cells_visited;
+  arena.release_to(mark);
+  ++st_->bands;
+  return out_.finish_band();
+}
 
+Status TilerFrame::walk_bsp() {
   // Front to back without recursion: one frame per node on the current root-to-node path; the far
   // child replaces its parent's frame, so the stack never holds more than the path.
   const TriageMask& root = pyramid_.mask(0, 0, 0);
@@ -375,7 +389,7 @@ Status TilerFrame::render_band(int band, Arena& arena) {
     }
     for (uint32_t p = node.first_piece; p < node.first_piece + node.piece_count; ++p) {
       ++pieces_done;
-      s = draw_piece(scene_.bsp_pieces[p]);
+      const Status s = draw_piece(scene_.bsp_pieces[p]);
       if (!s.ok()) return s;
       if (writer_->wrote_piece()) ++st_->triangles_drawn; else ++st_->triangles_culled;
     }
@@ -383,15 +397,7 @@ Status TilerFrame::render_band(int band, Arena& arena) {
   }
   // Once the root is covered every remaining piece is hidden.
   if (scene_.bsp_piece_count > pieces_done) st_->triangles_culled += scene_.bsp_piece_count - pieces_done;
-
-  writer_->begin_background(options_.shading == ShadingMode::Ids ? 0 : options_.background);
-  const uint64_t before = tiler_.cells_visited;
-  if (!tiler_.background(*writer_)) return error(StatusCode::SinkFailed, "sink refused a write");
-  tiler_.cells_visited = before;
-  st_->cells_visited = tiler_.cells_visited;
-  arena.release_to(mark);
-  ++st_->bands;
-  return out_.finish_band();
+  return ok_status();
 }
 
 Status TilerFrame::draw_piece(const BspPiece& piece) {
