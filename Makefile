@@ -133,9 +133,12 @@ FW_LD     := -nostartfiles --specs=nano.specs -Wl,--gc-sections -Lplatform/corte
 FW_COMMON := platform/cortex-m/common/startup.cpp platform/cortex-m/common/semihost.cpp
 FW_PANELS := platform/panels/panel.cpp platform/panels/panel_sink.cpp
 fwo = $(patsubst %.cpp,$(FW)/obj/$(2)/%.o,$(1))
-# Scenes in flash: the bundled default (mps2-an385, 4 MB) and, for the 256 KB boards, one row of
-# Greene's office rooms (1,100 triangles, 119 KB; FW_SMALL_SCENE).
-FW_SMALL_SCENE ?= office:1
+# Scenes in flash: the bundled default on every board (106 KB packed, so it fits the 256 KB boards
+# too); FW_SMALL_SCENE replaces it on the 256 KB boards (any `fwtool scene` argument, e.g. office:1).
+FW_SMALL_SCENE ?= default
+# FW_CHECK_CRC=0: the firmware skips the CRC-32 over the whole blob at boot (read_scene's structural
+# checks still run).
+FW_CHECK_CRC ?= 1
 FW_ELFS := $(FW)/mps2-an385.elf $(FW)/mps2-an385-calls.elf $(FW)/lm3s6965evb-tiler.elf $(FW)/lm3s6965evb-scanline.elf $(FW)/m0plus.elf
 
 $(FW)/obj/m3/%.o: %.cpp
@@ -152,10 +155,11 @@ $(FW)/obj/m0/libmaskline.a: $(call fwo,$(CORE_SRC),m0)
 $(FW)/fwtool: $(call rel,tools/board/fwtool.cpp) $(HOST_OBJ) $(SCENEC_OBJ) $(BUILD)/libmaskline.a
 	@mkdir -p $(dir $@)
 	$(CXX) $(OPT) -o $@ $^ $(HOST_LIBS)
-$(FW)/scenes/default.mls: | $(FW)/fwtool
+# Rebuilt with fwtool (whose compiler writes the format).
+$(FW)/scenes/default.mls: $(FW)/fwtool
 	@mkdir -p $(dir $@)
 	$(FW)/fwtool scene default -o $@
-$(FW)/scenes/small.mls: | $(FW)/fwtool
+$(FW)/scenes/small.mls: $(FW)/fwtool
 	@mkdir -p $(dir $@)
 	$(FW)/fwtool scene $(FW_SMALL_SCENE) -o $@
 
@@ -165,7 +169,7 @@ $(FW)/scenes/small.mls: | $(FW)/fwtool
 define fw_image
 $(1): $(3) $(4) $(5) $(6) platform/cortex-m/common/scene_blob.S $(call fwo,$(FW_COMMON) $(7),$(2)) $(FW)/obj/$(2)/libmaskline.a $(wildcard src/*/*.h platform/panels/*.h platform/cortex-m/*/*.h platform/cortex-m/common/*.ld)
 	@mkdir -p $$(dir $$@)
-	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_$(2)) $(8) -include $(4) -c $(3) -o $$(basename $$@)-main.o
+	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_$(2)) $(8) -DFW_CHECK_CRC=$(FW_CHECK_CRC) -include $(4) -c $(3) -o $$(basename $$@)-main.o
 	$(ARM_CXX) $(FW_CPU_$(2)) -DFW_SCENE_FILE='"$(5)"' -c platform/cortex-m/common/scene_blob.S -o $$(basename $$@)-scene.o
 	$(ARM_CXX) $(FW_CPU_$(2)) $(FW_LD) $(8) -T $(6) -Wl,-Map=$$(basename $$@).map -o $$@ $$(basename $$@)-main.o $$(basename $$@)-scene.o $(call fwo,$(FW_COMMON) $(7),$(2)) $(FW)/obj/$(2)/libmaskline.a
 endef

@@ -168,7 +168,7 @@ Status make_setup(const Scene& scene, const Camera& camera, const RenderOptions&
 }
 
 inline const Material& material_of(const Scene& scene, uint32_t id) {
-  return scene.materials[scene.batches[scene.triangles[id].batch].material];
+  return scene.materials[scene.batches[triangle_at(scene, id).batch].material];
 }
 
 // A material that a MASK cutout removes entirely (base colour alpha is constant over the triangle).
@@ -398,7 +398,7 @@ struct Renderer {
     // Woo's keepObj keys on the surface, not the triangle: for Gouraud shading the smooth surface is
     // the batch (one glTF primitive); flat colours are per triangle, so there the triangle is the key.
     if (opt->shading == ShadingMode::Gouraud) {
-      const uint32_t batch = scene->triangles[a.id].batch;
+      const uint32_t batch = triangle_at(*scene, a.id).batch;
       return 0x80000000u | (batch << 1) | ((a.flags & kFront) ? 1u : 0u);
     }
     return a.id + 1;

@@ -3,8 +3,15 @@
 //
 // Properties: little-endian; read in place (flash, mmap, buffer), never copied; position-independent
 // (all references are offsets from the blob start or indices); the base address must be 8-byte aligned
-// and every section starts at a multiple of 8. Versioned (kBlobVersion) and checksummed (CRC-32/IEEE,
-// reflected polynomial 0xEDB88320, init and final xor 0xFFFFFFFF, over bytes [16, total_size)).
+// and every section starts at a multiple of 8 (no element needs more than 4-byte alignment). Versioned
+// (kBlobVersion) and checksummed (CRC-32/IEEE, reflected polynomial 0xEDB88320, init and final xor
+// 0xFFFFFFFF, over bytes [16, total_size)); the reader checks the CRC only when asked to.
+//
+// Packed for flash: indices are 16-bit ("narrow") when every count they index fits, else 32-bit
+// ("wide", SceneInfo::flags bit kWideIndices); pieces that are whole triangles are one index; planes
+// are an int16 normal and an int32 offset; subtree boxes are byte cells of a grid over the scene box.
+// Renderers never read these structs directly: scene/scene.h decodes them (bsp_node, bsp_piece,
+// triangle_at, vertex_normal, vertex_uv).
 //
 // Layout:
 //   BlobHeader                      (24 bytes)
@@ -25,7 +32,7 @@
 namespace ml {
 
 constexpr uint32_t kBlobMagic = 0x43534C4D;  // "MLSC" as bytes
-constexpr uint16_t kBlobVersion = 1;
+constexpr uint16_t kBlobVersion = 2;
 constexpr uint32_t kNone = 0xFFFFFFFFu;      // "no index" in any u32 index field
 
 struct BlobHeader {
@@ -43,13 +50,16 @@ enum class SectionType : uint32_t {
   Info = 1,        // one SceneInfo
   Materials = 2,   // Material[count]
   Batches = 3,     // Batch[count]
-  Vertices = 4,    // Vertex[count]
-  Triangles = 5,   // Triangle[count], index = triangle id
+  Vertices = 4,    // PackedVertex[count]
+  Triangles = 5,   // PackedTriangle<Index>[count], index = triangle id
   Nodes = 6,       // Node[count], the glTF node hierarchy (for info; geometry is already in world space)
-  BspNodes = 7,    // BspNode[count], node 0 is the root (absent or count 0: no BSP)
-  BspPieces = 8,   // BspPiece[count], referenced by BspNode ranges
+  BspNodes = 7,    // PackedBspNode<Index>[count], node 0 is the root (absent or count 0: no BSP)
+  BspPieces = 8,   // Index[count]: the pieces, referenced by BspNode ranges (see kind below)
   Textures = 9,    // TextureRef[count]
+  BspSplits = 10,  // PackedSplitPiece<Index>[count]: pieces that are part of a split triangle
+  Uvs = 11,        // int32_t[2] per vertex (TEXCOORD_0, Q16.16); absent: every uv is 0
 };
+constexpr uint32_t kSectionTypeCount = 11;
 
 struct SectionEntry {
   uint32_t type;     // SectionType
@@ -59,8 +69,14 @@ struct SectionEntry {
 };
 static_assert(sizeof(SectionEntry) == 16, "SectionEntry layout");
 
+// SceneInfo::flags
+constexpr uint32_t kWideIndices = 1u;          // bit 0: index fields are uint32_t, else uint16_t
+constexpr int kBoundsShiftBit = 8;             // bits 8..12: log2 of a bounds cell (world units)
+constexpr uint32_t kBoundsShiftMask = 31u;
+constexpr uint32_t kKnownInfoFlags = kWideIndices | (kBoundsShiftMask << kBoundsShiftBit);
+
 struct SceneInfo {
-  int32_t bounds_min[3];       // world units, of every vertex
+  int32_t bounds_min[3];       // world units, of every vertex; bounds_min is also the BSP grid origin
   int32_t bounds_max[3];
   int32_t sphere_center[3];    // bounding sphere, world units
   int32_t sphere_radius;       // > 0
@@ -69,7 +85,7 @@ struct SceneInfo {
   uint32_t gltf_center_bits[3];
   uint32_t gltf_to_world_bits;
   uint32_t bsp_depth;          // longest root-to-leaf path in BspNodes (0 when there is no BSP)
-  uint32_t reserved;
+  uint32_t flags;              // kWideIndices, bounds cell shift; other bits 0
 };
 static_assert(sizeof(SceneInfo) == 64, "SceneInfo layout");
 
@@ -100,18 +116,21 @@ struct Batch {
 };
 static_assert(sizeof(Batch) == 48, "Batch layout");
 
-struct Vertex {
+// UVs live in their own optional section (Uvs), so untextured scenes do not carry them.
+struct PackedVertex {
   int16_t position[3];         // quantized, see Batch
   int16_t normal[3];           // world space, Q1.14 unit vector; (0,0,0) if the mesh had none
-  int32_t uv[2];               // TEXCOORD_0, Q16.16; 0 if absent
 };
-static_assert(sizeof(Vertex) == 20, "Vertex layout");
+static_assert(sizeof(PackedVertex) == 12, "PackedVertex layout");
 
-struct Triangle {
-  uint32_t v[3];               // indices into Vertices, inside the batch's vertex range
-  uint32_t batch;              // index into Batches
+// Index = uint16_t (narrow) or uint32_t (wide), for the whole blob (SceneInfo::flags).
+template <typename Index>
+struct PackedTriangle {
+  Index v[3];                  // indices into Vertices, inside the batch's vertex range
+  Index batch;                 // index into Batches
 };
-static_assert(sizeof(Triangle) == 16, "Triangle layout");
+static_assert(sizeof(PackedTriangle<uint16_t>) == 8 && sizeof(PackedTriangle<uint32_t>) == 16,
+              "PackedTriangle layout");
 
 struct Node {
   uint32_t parent;             // index into Nodes or kNone for roots of the scene
@@ -121,40 +140,45 @@ struct Node {
 };
 static_assert(sizeof(Node) == 16, "Node layout");
 
-// BSP tree over the scene's pieces, in world space. Plane: dot(normal, p) - d, normal Q1.30 unit
-// vector, p world units, d in world units Q?.30 (i.e. the dot product's scale). Pieces with a
-// positive value are in front. Pieces lying in the plane are listed in [first_piece, +piece_count).
-// Front-to-back for an eye E: if plane(E) >= 0 visit front, own pieces, back; else back, own, front.
-// Layout (checked by read_scene): nodes are stored breadth-first — reading every node's child references
-// in node order, front before back, gives exactly 1, 2, ..., count-1 — and node i's pieces directly
-// follow node i-1's, covering BspPieces. info.bsp_depth >= the number of nodes on the longest path.
-// Subtree bounds (for occlusion culling of whole subtrees): bounds_min/max is the world-space box of
-// every piece vertex in the node's subtree (its own pieces and all descendants'), each vertex taken
-// as the renderer sees it (vertex_world with the piece's triangle's batch); a child's box lies inside
-// its parent's. A subtree without pieces may hold any such nesting box (the compiler gives it its
-// parent's). |bounds| < 2^18. subtree_pieces = piece_count + the children's subtree_pieces.
-struct BspNode {
-  int32_t normal[3];           // Q1.30
-  uint32_t front;              // child index or kNone
-  int64_t d;                   // world units * 2^30
-  uint32_t back;               // child index or kNone
-  uint32_t first_piece;        // range in BspPieces
-  uint32_t piece_count;
-  uint32_t subtree_pieces;     // pieces in the subtree
-  int32_t bounds_min[3];       // world units, inclusive
-  int32_t bounds_max[3];
+// BSP tree over the scene's pieces, in world space. Plane value of a point p (world units):
+//   dot(normal, p) * 2^16 - d * 2^18        (normal Q1.14, d world units * 2^12; the scale is Q1.30)
+// Pieces with a positive value are in front. Front-to-back for an eye E: if plane(E) >= 0 visit
+// front, own pieces, back; else back, own, front.
+// Layout (checked by read_scene): nodes are stored breadth-first — reading every node's children in
+// node order, front before back, gives exactly 1, 2, ..., count-1; so a node's children are
+// first_child (front if it has one) and the next index. Node i's pieces are [first_piece, next node's
+// first_piece) (the last node's end at the piece count); node 0's first_piece is 0.
+// Subtree bounds: every piece vertex in the node's subtree (as the renderer dequantizes it) lies in
+// the box, cell c of axis a covering world [bounds_min[a] + c * 2^shift, + 2^shift - 1] (origin and
+// shift in SceneInfo); a child's cells lie inside its parent's. A subtree without pieces may hold
+// any such nesting box (the compiler gives it its parent's). subtree_pieces = own + the children's.
+constexpr uint8_t kFrontChild = 1, kBackChild = 2;
+template <typename Index>
+struct PackedBspNode {
+  int32_t d;                   // world units * 2^12
+  int16_t normal[3];           // Q1.14
+  uint8_t children;            // kFrontChild | kBackChild
+  uint8_t reserved;            // 0
+  Index first_child;           // index of the first child (0 without children)
+  Index first_piece;           // into BspPieces
+  Index subtree_pieces;        // pieces in the subtree
+  uint8_t cells[6];            // box min x, y, z, max x, y, z in bounds cells (inclusive)
 };
-static_assert(sizeof(BspNode) == 64, "BspNode layout");
+static_assert(sizeof(PackedBspNode<uint16_t>) == 24 && sizeof(PackedBspNode<uint32_t>) == 32,
+              "PackedBspNode layout");
 
-// A piece is a whole triangle or a part of one that the BSP split. Its vertices index Vertices
-// (split points are appended there by the compiler with interpolated attributes, quantized with the
-// batch of `triangle`, which need not contain them in its vertex range); `triangle` is the id of the
-// triangle it came from (its batch and material).
-struct BspPiece {
-  uint32_t v[3];
-  uint32_t triangle;
+// A piece is a whole triangle or a part of one that the BSP split. BspPieces holds one Index per
+// piece: a value below the triangle count is that triangle (its vertices, in order); value
+// triangle_count + k is BspSplits[k]. A split piece's vertices index Vertices (split points are
+// appended there by the compiler, quantized with the batch of `triangle`, which need not contain
+// them in its vertex range); `triangle` is the id of the triangle it came from.
+template <typename Index>
+struct PackedSplitPiece {
+  Index v[3];
+  Index triangle;
 };
-static_assert(sizeof(BspPiece) == 16, "BspPiece layout");
+static_assert(sizeof(PackedSplitPiece<uint16_t>) == 8 && sizeof(PackedSplitPiece<uint32_t>) == 16,
+              "PackedSplitPiece layout");
 
 struct TextureRef {
   uint32_t image;              // glTF image index (texels are not stored yet)

@@ -21,19 +21,21 @@ constexpr CrcTable kCrcTable;
 
 // ---- helpers -------------------------------------------------------------------------------------
 
-constexpr uint32_t kSectionTypeCount = 9;      // SectionType values are 1..9
-
-uint32_t element_size(uint32_t type) {
+// Element size of a section type; index-bearing types depend on the index width.
+uint32_t element_size(uint32_t type, bool wide) {
+  const uint32_t index = wide ? 4 : 2;
   switch (static_cast<SectionType>(type)) {
     case SectionType::Info: return sizeof(SceneInfo);
     case SectionType::Materials: return sizeof(Material);
     case SectionType::Batches: return sizeof(Batch);
-    case SectionType::Vertices: return sizeof(Vertex);
-    case SectionType::Triangles: return sizeof(Triangle);
+    case SectionType::Vertices: return sizeof(PackedVertex);
+    case SectionType::Triangles: return 4 * index;
     case SectionType::Nodes: return sizeof(Node);
-    case SectionType::BspNodes: return sizeof(BspNode);
-    case SectionType::BspPieces: return sizeof(BspPiece);
+    case SectionType::BspNodes: return wide ? sizeof(PackedBspNode<uint32_t>) : sizeof(PackedBspNode<uint16_t>);
+    case SectionType::BspPieces: return index;
     case SectionType::Textures: return sizeof(TextureRef);
+    case SectionType::BspSplits: return 4 * index;
+    case SectionType::Uvs: return 8;
   }
   return 0;
 }
@@ -49,6 +51,7 @@ Status bad(const char* message) { return error(StatusCode::BadScene, message); }
 
 struct Sections {
   const SectionEntry* entry[kSectionTypeCount + 1] = {};
+  const SectionEntry* get(SectionType t) const { return entry[uint32_t(t)]; }
 };
 
 template <typename T>
@@ -61,7 +64,7 @@ const T* section_data(const uint8_t* base, const SectionEntry* e, uint32_t* coun
   return e->count ? reinterpret_cast<const T*>(base + e->offset) : nullptr;
 }
 
-Status check_header(const uint8_t* base, size_t size, const BlobHeader** header_out) {
+Status check_header(const uint8_t* base, size_t size, CrcCheck crc, const BlobHeader** header_out) {
   if (base == nullptr) return bad("blob is null");
   if (size < sizeof(BlobHeader)) return bad("blob too small for header");
   if ((reinterpret_cast<uintptr_t>(base) & 7u) != 0) return bad("blob base not 8-byte aligned");
@@ -70,13 +73,15 @@ Status check_header(const uint8_t* base, size_t size, const BlobHeader** header_
   if (h->version != kBlobVersion) return bad("unsupported blob version");
   if (h->header_bytes != sizeof(BlobHeader)) return bad("bad header size");
   if (uint64_t(h->total_size) != uint64_t(size)) return bad("total size does not match blob size");
-  if (crc32(base + 16, size - 16) != h->crc32) return bad("crc mismatch");
+  if (crc == CrcCheck::Check && crc32(base + 16, size - 16) != h->crc32) return bad("crc mismatch");
   if (h->reserved != 0) return bad("header reserved field not zero");
   *header_out = h;
   return ok_status();
 }
 
-Status check_sections(const uint8_t* base, const BlobHeader& h, Sections* s) {
+// Places every section (type, uniqueness, alignment, bounds, no overlap), then the Info section, whose
+// flags give the index width that the other sections' sizes depend on.
+Status check_sections(const uint8_t* base, const BlobHeader& h, Sections* s, bool* wide) {
   const uint64_t table_end = uint64_t(sizeof(BlobHeader)) + uint64_t(h.section_count) * sizeof(SectionEntry);
   if (table_end > h.total_size) return bad("section table outside blob");
   const SectionEntry* table = reinterpret_cast<const SectionEntry*>(base + sizeof(BlobHeader));
@@ -88,10 +93,9 @@ Status check_sections(const uint8_t* base, const BlobHeader& h, Sections* s) {
     if (uint64_t(e.offset) < table_end || uint64_t(e.offset) + e.size > h.total_size) {
       return bad("section outside blob");
     }
-    if (uint64_t(e.count) * element_size(e.type) != e.size) return bad("section size does not match count");
     s->entry[e.type] = &e;
   }
-  // Pairwise overlap (at most nine sections).
+  // Pairwise overlap (at most kSectionTypeCount sections).
   for (uint32_t a = 1; a <= kSectionTypeCount; ++a) {
     const SectionEntry* ea = s->entry[a];
     if (ea == nullptr || ea->size == 0) continue;
@@ -102,12 +106,19 @@ Status check_sections(const uint8_t* base, const BlobHeader& h, Sections* s) {
       if (a0 < b1 && b0 < a1) return bad("sections overlap");
     }
   }
-  if (s->entry[uint32_t(SectionType::Info)] == nullptr) return bad("missing info section");
-  if (s->entry[uint32_t(SectionType::Materials)] == nullptr) return bad("missing materials section");
-  if (s->entry[uint32_t(SectionType::Batches)] == nullptr) return bad("missing batches section");
-  if (s->entry[uint32_t(SectionType::Vertices)] == nullptr) return bad("missing vertices section");
-  if (s->entry[uint32_t(SectionType::Triangles)] == nullptr) return bad("missing triangles section");
-  if (s->entry[uint32_t(SectionType::Info)]->count != 1) return bad("info section must hold one entry");
+  if (s->get(SectionType::Info) == nullptr) return bad("missing info section");
+  if (s->get(SectionType::Materials) == nullptr) return bad("missing materials section");
+  if (s->get(SectionType::Batches) == nullptr) return bad("missing batches section");
+  if (s->get(SectionType::Vertices) == nullptr) return bad("missing vertices section");
+  if (s->get(SectionType::Triangles) == nullptr) return bad("missing triangles section");
+  const SectionEntry& info = *s->get(SectionType::Info);
+  if (info.count != 1 || info.size != sizeof(SceneInfo)) return bad("info section must hold one entry");
+  *wide = (reinterpret_cast<const SceneInfo*>(base + info.offset)->flags & kWideIndices) != 0;
+  for (uint32_t t = 1; t <= kSectionTypeCount; ++t) {
+    const SectionEntry* e = s->entry[t];
+    if (e != nullptr && uint64_t(e->count) * element_size(t, *wide) != e->size)
+      return bad("section size does not match count");
+  }
   return ok_status();
 }
 
@@ -122,6 +133,18 @@ Status check_info(const SceneInfo& info) {
   if (info.sphere_radius <= 0) return bad("sphere radius not positive");
   if (info.sphere_radius >= kRadiusLimit) return bad("sphere radius out of range");
   if (info.bsp_depth > kMaxBspDepth) return bad("bsp depth above limit");
+  if ((info.flags & ~kKnownInfoFlags) != 0) return bad("info flags unknown");
+  if (((info.flags >> kBoundsShiftBit) & kBoundsShiftMask) > kMaxBoundsShift) return bad("bsp bounds cell too large");
+  return ok_status();
+}
+
+// Narrow blobs must index everything with 16 bits; a piece reference reaches triangles and splits.
+Status check_index_width(const Scene& s) {
+  if (s.wide) return ok_status();
+  const uint64_t limit = 0xFFFF;
+  if (s.vertex_count > limit || s.batch_count > limit || s.bsp_node_count > limit || s.bsp_piece_count > limit ||
+      uint64_t(s.triangle_count) + s.bsp_split_count > limit)
+    return bad("counts too large for 16-bit indices");
   return ok_status();
 }
 
@@ -166,19 +189,20 @@ Status check_batches(const Scene& s) {
   return ok_status();
 }
 
-Status check_vertices(const Scene& s) {
+Status check_vertices(const Scene& s, const SectionEntry* uvs) {
   const int64_t one = int64_t(1) << (2 * kNormalBits);
   for (uint32_t i = 0; i < s.vertex_count; ++i) {
     const int16_t* n = s.vertices[i].normal;
     const int64_t len2 = int64_t(n[0]) * n[0] + int64_t(n[1]) * n[1] + int64_t(n[2]) * n[2];
     if (len2 != 0 && abs64(len2 - one) > one / 16) return bad("vertex normal not unit length");
   }
+  if (uvs != nullptr && uvs->count != s.vertex_count) return bad("uv count does not match vertex count");
   return ok_status();
 }
 
 Status check_triangles(const Scene& s) {
   for (uint32_t t = 0; t < s.triangle_count; ++t) {
-    const Triangle& tri = s.triangles[t];
+    const Triangle tri = triangle_at(s, t);
     if (tri.batch >= s.batch_count) return bad("triangle batch index out of range");
     const Batch& b = s.batches[tri.batch];
     if (t < b.first_triangle || t - b.first_triangle >= b.triangle_count) {
@@ -198,20 +222,32 @@ bool inside(const Vec3i& p, const BspNode& n) {
          p.y <= n.bounds_max[1] && p.z >= n.bounds_min[2] && p.z <= n.bounds_max[2];
 }
 
+// The fields of packed node i that the decoder trusts: raw plane and cells, children flags.
+template <typename Index>
+Status check_packed_node(const Scene& s, uint32_t i) {
+  const PackedBspNode<Index>& n = static_cast<const PackedBspNode<Index>*>(s.bsp_nodes)[i];
+  if (n.children > (kFrontChild | kBackChild) || n.reserved != 0) return bad("bsp node flags invalid");
+  if (n.children == 0 && n.first_child != 0) return bad("bsp leaf has a child index");
+  for (int a = 0; a < 3; ++a)
+    if (n.cells[a] > n.cells[3 + a]) return bad("bsp bounds min above max");
+  if (n.first_piece > s.bsp_piece_count) return bad("bsp piece range out of range");
+  if (i == 0 && n.first_piece != 0) return bad("bsp piece ranges not contiguous");
+  if (i > 0 && n.first_piece < static_cast<const PackedBspNode<Index>*>(s.bsp_nodes)[i - 1].first_piece)
+    return bad("bsp piece ranges not contiguous");
+  return ok_status();
+}
+
 // Subtree bounds and counts, checked locally per node (own piece vertices and children inside the
 // box, counts adding up), which by induction puts every piece of a subtree inside its root's box.
 // Runs after the tree shape, piece ranges and indices are known good.
 Status check_bsp_subtrees(const Scene& s) {
   for (uint32_t i = 0; i < s.bsp_node_count; ++i) {
-    const BspNode& n = s.bsp_nodes[i];
-    for (int a = 0; a < 3; ++a) {
-      if (n.bounds_min[a] > n.bounds_max[a]) return bad("bsp bounds min above max");
-      if (!in_limit(n.bounds_min[a], kSceneLimit) || !in_limit(n.bounds_max[a], kSceneLimit))
-        return bad("bsp bounds out of range");
-    }
+    // Decoded boxes lie within the scene box's origin (|.| < 2^18) plus 256 cells of at most 2^12:
+    // below kBspBoundsLimit without a check.
+    const BspNode n = bsp_node(s, i);
     for (uint32_t p = n.first_piece; p < n.first_piece + n.piece_count; ++p) {
-      const BspPiece& piece = s.bsp_pieces[p];
-      const uint32_t batch = s.triangles[piece.triangle].batch;
+      const BspPiece piece = bsp_piece(s, p);
+      const uint32_t batch = triangle_at(s, piece.triangle).batch;
       for (int k = 0; k < 3; ++k)
         if (!inside(vertex_world(s, batch, piece.v[k]), n)) return bad("bsp piece vertex outside node bounds");
     }
@@ -219,7 +255,7 @@ Status check_bsp_subtrees(const Scene& s) {
     const uint32_t child[2] = {n.front, n.back};
     for (uint32_t c : child) {
       if (c == kNone) continue;
-      const BspNode& m = s.bsp_nodes[c];
+      const BspNode m = bsp_node(s, c);
       for (int a = 0; a < 3; ++a)
         if (m.bounds_min[a] < n.bounds_min[a] || m.bounds_max[a] > n.bounds_max[a])
           return bad("bsp child bounds outside parent bounds");
@@ -230,34 +266,51 @@ Status check_bsp_subtrees(const Scene& s) {
   return ok_status();
 }
 
+// Every piece reference and split piece in range (a reference below the triangle count is a whole
+// triangle, already checked; above it, a split piece).
+Status check_pieces(const Scene& s) {
+  for (uint32_t p = 0; p < s.bsp_piece_count; ++p) {
+    const uint32_t ref = s.wide ? static_cast<const uint32_t*>(s.bsp_pieces)[p]
+                                : static_cast<const uint16_t*>(s.bsp_pieces)[p];
+    if (ref >= s.triangle_count && ref - s.triangle_count >= s.bsp_split_count)
+      return bad("bsp piece reference out of range");
+    if (ref < s.triangle_count) continue;
+    const BspPiece piece = bsp_piece(s, p);
+    if (piece.triangle >= s.triangle_count) return bad("bsp piece triangle out of range");
+    for (int k = 0; k < 3; ++k) {
+      if (piece.v[k] >= s.vertex_count) return bad("bsp piece vertex index out of range");
+    }
+  }
+  return ok_status();
+}
+
 // The BSP nodes must be stored breadth-first: reading every node's child references in node order
 // (front before back) yields exactly 1, 2, ..., count-1. That makes the nodes a tree rooted at 0
 // (each node referenced once, never the root, every child after its parent) and lets the depth be
 // counted level by level in one pass with O(1) memory. Piece ranges follow node order contiguously.
 Status check_bsp(const Scene& s) {
   if (s.bsp_node_count == 0) {
-    if (s.bsp_piece_count != 0) return bad("bsp pieces without bsp nodes");
+    if (s.bsp_piece_count != 0 || s.bsp_split_count != 0) return bad("bsp pieces without bsp nodes");
     return ok_status();
   }
   uint32_t next_child = 1;   // the index the next child reference must have
   uint32_t level_end = 1;    // end of the level being scanned
   uint32_t depth = 1;
-  uint32_t next_piece = 0;
-  const int64_t unit2 = int64_t(1) << (2 * kUnitBits);
+  const int64_t unit2 = int64_t(1) << (2 * kNormalBits);
   for (uint32_t i = 0; i < s.bsp_node_count; ++i) {
-    const BspNode& n = s.bsp_nodes[i];
+    const Status st = s.wide ? check_packed_node<uint32_t>(s, i) : check_packed_node<uint16_t>(s, i);
+    if (!st.ok()) return st;
+    const BspNode n = bsp_node(s, i);
     if (i == level_end) {   // first node of a new level; its level ends where the children so far end
       ++depth;
       level_end = next_child;
       if (level_end <= i) return bad("bsp node unreachable");
     }
-    for (int a = 0; a < 3; ++a) {
-      if (n.normal[a] < -kUnitOne || n.normal[a] > kUnitOne) return bad("bsp normal out of range");
-    }
-    const int64_t len2 = int64_t(n.normal[0]) * n.normal[0] + int64_t(n.normal[1]) * n.normal[1] +
-                         int64_t(n.normal[2]) * n.normal[2];
-    if (abs64(len2 - unit2) > unit2 / 64) return bad("bsp normal not unit length");
-    if (n.d <= -kPlaneOffsetLimit || n.d >= kPlaneOffsetLimit) return bad("bsp plane offset out of range");
+    const int64_t nx = n.normal[0] >> 16, ny = n.normal[1] >> 16, nz = n.normal[2] >> 16;  // Q1.14
+    if (nx < -kNormalOne || nx > kNormalOne || ny < -kNormalOne || ny > kNormalOne || nz < -kNormalOne ||
+        nz > kNormalOne)
+      return bad("bsp normal out of range");
+    if (abs64(nx * nx + ny * ny + nz * nz - unit2) > unit2 / 64) return bad("bsp normal not unit length");
     const uint32_t child[2] = {n.front, n.back};
     for (uint32_t c : child) {
       if (c == kNone) continue;
@@ -268,20 +321,11 @@ Status check_bsp(const Scene& s) {
       if (c <= i) return bad("bsp child not after its parent");
       ++next_child;
     }
-    if (n.first_piece != next_piece) return bad("bsp piece ranges not contiguous");
-    if (!range_ok(n.first_piece, n.piece_count, s.bsp_piece_count)) return bad("bsp piece range out of range");
-    next_piece += n.piece_count;
   }
   if (next_child != s.bsp_node_count) return bad("bsp node unreachable");
-  if (next_piece != s.bsp_piece_count) return bad("bsp pieces not covered by nodes");
   if (depth > s.info->bsp_depth) return bad("bsp deeper than info bsp_depth");
-  for (uint32_t p = 0; p < s.bsp_piece_count; ++p) {
-    const BspPiece& piece = s.bsp_pieces[p];
-    if (piece.triangle >= s.triangle_count) return bad("bsp piece triangle out of range");
-    for (int k = 0; k < 3; ++k) {
-      if (piece.v[k] >= s.vertex_count) return bad("bsp piece vertex index out of range");
-    }
-  }
+  const Status st = check_pieces(s);
+  if (!st.ok()) return st;
   return check_bsp_subtrees(s);
 }
 
@@ -294,36 +338,42 @@ uint32_t crc32(const void* data, size_t size, uint32_t previous) {
   return c ^ 0xFFFFFFFFu;
 }
 
-Status read_scene(const void* blob, size_t size, Scene* out) {
+Status read_scene(const void* blob, size_t size, Scene* out, CrcCheck crc) {
   if (out == nullptr) return error(StatusCode::InvalidArgument, "scene output is null");
   *out = Scene{};
   const uint8_t* base = static_cast<const uint8_t*>(blob);
   const BlobHeader* header = nullptr;
-  Status st = check_header(base, size, &header);
+  Status st = check_header(base, size, crc, &header);
   if (!st.ok()) return st;
   Sections sec;
-  st = check_sections(base, *header, &sec);
+  bool wide = false;
+  st = check_sections(base, *header, &sec, &wide);
   if (!st.ok()) return st;
 
   Scene s;
   s.base = base;
   s.size = header->total_size;
-  uint32_t info_count = 0;
-  s.info = section_data<SceneInfo>(base, sec.entry[uint32_t(SectionType::Info)], &info_count);
-  s.materials = section_data<Material>(base, sec.entry[uint32_t(SectionType::Materials)], &s.material_count);
-  s.batches = section_data<Batch>(base, sec.entry[uint32_t(SectionType::Batches)], &s.batch_count);
-  s.vertices = section_data<Vertex>(base, sec.entry[uint32_t(SectionType::Vertices)], &s.vertex_count);
-  s.triangles = section_data<Triangle>(base, sec.entry[uint32_t(SectionType::Triangles)], &s.triangle_count);
-  s.nodes = section_data<Node>(base, sec.entry[uint32_t(SectionType::Nodes)], &s.node_count);
-  s.bsp_nodes = section_data<BspNode>(base, sec.entry[uint32_t(SectionType::BspNodes)], &s.bsp_node_count);
-  s.bsp_pieces = section_data<BspPiece>(base, sec.entry[uint32_t(SectionType::BspPieces)], &s.bsp_piece_count);
-  s.textures = section_data<TextureRef>(base, sec.entry[uint32_t(SectionType::Textures)], &s.texture_count);
+  s.wide = wide;
+  uint32_t info_count = 0, uv_count = 0;
+  s.info = section_data<SceneInfo>(base, sec.get(SectionType::Info), &info_count);
+  s.bounds_shift = int((s.info->flags >> kBoundsShiftBit) & kBoundsShiftMask);
+  s.materials = section_data<Material>(base, sec.get(SectionType::Materials), &s.material_count);
+  s.batches = section_data<Batch>(base, sec.get(SectionType::Batches), &s.batch_count);
+  s.vertices = section_data<PackedVertex>(base, sec.get(SectionType::Vertices), &s.vertex_count);
+  s.uvs = section_data<int32_t>(base, sec.get(SectionType::Uvs), &uv_count);
+  s.triangles = section_data<uint8_t>(base, sec.get(SectionType::Triangles), &s.triangle_count);
+  s.nodes = section_data<Node>(base, sec.get(SectionType::Nodes), &s.node_count);
+  s.bsp_nodes = section_data<uint8_t>(base, sec.get(SectionType::BspNodes), &s.bsp_node_count);
+  s.bsp_pieces = section_data<uint8_t>(base, sec.get(SectionType::BspPieces), &s.bsp_piece_count);
+  s.bsp_splits = section_data<uint8_t>(base, sec.get(SectionType::BspSplits), &s.bsp_split_count);
+  s.textures = section_data<TextureRef>(base, sec.get(SectionType::Textures), &s.texture_count);
 
   if (!(st = check_info(*s.info)).ok()) return st;
+  if (!(st = check_index_width(s)).ok()) return st;
   if (!(st = check_materials(s)).ok()) return st;
   if (!(st = check_nodes(s)).ok()) return st;
   if (!(st = check_batches(s)).ok()) return st;
-  if (!(st = check_vertices(s)).ok()) return st;
+  if (!(st = check_vertices(s, sec.get(SectionType::Uvs))).ok()) return st;
   if (!(st = check_triangles(s)).ok()) return st;
   if (!(st = check_bsp(s)).ok()) return st;
   *out = s;
@@ -339,7 +389,7 @@ Vec3i vertex_world(const Scene& scene, uint32_t batch, uint32_t vertex) {
 }
 
 void triangle_world(const Scene& scene, uint32_t id, Vec3i out[3]) {
-  const Triangle& t = scene.triangles[id];
+  const Triangle t = triangle_at(scene, id);
   for (int k = 0; k < 3; ++k) out[k] = vertex_world(scene, t.batch, t.v[k]);
 }
 

@@ -53,7 +53,7 @@ Pixel modulate(const uint8_t base[4], int32_t intensity_q8) {
 
 void shade_triangle(const Scene& scene, const Light& light, ShadingMode mode, uint32_t triangle_id,
                     bool front_facing, TriangleColors* out) {
-  const Triangle& tri = scene.triangles[triangle_id];
+  const Triangle tri = triangle_at(scene, triangle_id);
   const Batch& batch = scene.batches[tri.batch];
   const Material& material = scene.materials[batch.material];
   out->smooth = false;
@@ -69,7 +69,7 @@ void shade_triangle(const Scene& scene, const Light& light, ShadingMode mode, ui
     out->flat = modulate(material.base_color, lambert_q8(light, normal));
     if (mode == ShadingMode::Gouraud) {
       for (int i = 0; i < 3; ++i) {
-        const int16_t* n = scene.vertices[tri.v[i]].normal;
+        const int16_t* n = vertex_normal(scene, tri.v[i]);
         constexpr int up = kUnitBits - kNormalBits;
         Vec3i vn{int32_t(shift_left(n[0], up)), int32_t(shift_left(n[1], up)), int32_t(shift_left(n[2], up))};
         if (vn.x == 0 && vn.y == 0 && vn.z == 0) vn = normal;  // mesh without normals

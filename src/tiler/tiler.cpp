@@ -366,7 +366,7 @@ Status TilerFrame::walk_bsp() {
     BspFrame& f = stack_[sp - 1];
     const uint32_t index = f & ~kNearDone;
     if (index >= scene_.bsp_node_count) return error(StatusCode::BadScene, "BSP child out of range");
-    const BspNode& node = scene_.bsp_nodes[index];
+    const BspNode node = bsp_node(scene_, index);
     const int64_t side = int64_t(node.normal[0]) * view_.eye.x + int64_t(node.normal[1]) * view_.eye.y +
                          int64_t(node.normal[2]) * view_.eye.z - node.d;
     const uint32_t near = side >= 0 ? node.front : node.back;
@@ -389,7 +389,7 @@ Status TilerFrame::walk_bsp() {
     }
     for (uint32_t p = node.first_piece; p < node.first_piece + node.piece_count; ++p) {
       ++pieces_done;
-      const Status s = draw_piece(scene_.bsp_pieces[p]);
+      const Status s = draw_piece(bsp_piece(scene_, p));
       if (!s.ok()) return s;
       if (writer_->wrote_piece()) ++st_->triangles_drawn; else ++st_->triangles_culled;
     }
@@ -402,7 +402,7 @@ Status TilerFrame::walk_bsp() {
 
 Status TilerFrame::draw_piece(const BspPiece& piece) {
   writer_->clear_piece();
-  const Triangle& tri = scene_.triangles[piece.triangle];
+  const Triangle tri = triangle_at(scene_, piece.triangle);
   const Material& mat = scene_.materials[scene_.batches[tri.batch].material];
   // Facing is decided on the whole triangle, exactly as the scanline renderer decides it, and
   // before projecting, so back faces cost almost nothing.

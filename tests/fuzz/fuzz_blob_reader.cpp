@@ -1,7 +1,8 @@
 // libFuzzer target for the scene-blob reader (make fuzz; a short smoke run is part of make test).
-// Each input is read twice: as given (almost always stopped by the CRC), and with its CRC patched to
-// match so the structural checks behind it get fuzzed too. Whatever read_scene accepts is then walked
-// completely: every triangle's and every BSP piece's vertices, every node — ASan and UBSan watch.
+// Each input is read twice: as given with the CRC checked (almost always stopped by it), and without
+// the CRC check so the structural checks behind it get fuzzed too. Whatever read_scene accepts is then
+// walked completely through the accessors: every triangle's and every BSP piece's vertices, normals
+// and UVs, every node — ASan and UBSan watch.
 #include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -21,15 +22,20 @@ void walk(const ml::Scene& s) {
     sum += int64_t(w[0].x) + w[1].y + w[2].z;
   }
   for (uint32_t i = 0; i < s.bsp_node_count; ++i) {
-    const ml::BspNode& n = s.bsp_nodes[i];
+    const ml::BspNode& n = ml::bsp_node(s, i);
     for (uint32_t p = n.first_piece; p < n.first_piece + n.piece_count; ++p) {
-      const ml::BspPiece& piece = s.bsp_pieces[p];
-      const uint32_t batch = s.triangles[piece.triangle].batch;
+      const ml::BspPiece& piece = ml::bsp_piece(s, p);
+      const uint32_t batch = ml::triangle_at(s, piece.triangle).batch;
       for (uint32_t v : piece.v) sum += ml::vertex_world(s, batch, v).x;
     }
-    if (n.front != ml::kNone) sum += s.bsp_nodes[n.front].piece_count;
-    if (n.back != ml::kNone) sum += s.bsp_nodes[n.back].piece_count;
+    if (n.front != ml::kNone) sum += ml::bsp_node(s, n.front).piece_count;
+    if (n.back != ml::kNone) sum += ml::bsp_node(s, n.back).piece_count;
     sum += int64_t(n.bounds_min[0]) + n.bounds_max[2] + n.subtree_pieces;
+  }
+  for (uint32_t v = 0; v < s.vertex_count; ++v) {
+    int32_t uv[2];
+    ml::vertex_uv(s, v, uv);
+    sum += uv[0] + uv[1] + ml::vertex_normal(s, v)[2];
   }
   for (uint32_t i = 0; i < s.node_count; ++i) {
     for (uint32_t b = s.nodes[i].first_batch; b < s.nodes[i].first_batch + s.nodes[i].batch_count; ++b) {
@@ -53,12 +59,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (buffer == nullptr || (reinterpret_cast<uintptr_t>(buffer) & 7u) != 0) abort();
   if (size) memcpy(buffer, data, size);
   ml::Scene scene;
-  if (ml::read_scene(buffer, size, &scene).ok()) walk(scene);
-  if (size >= 24) {
-    const uint32_t crc = ml::crc32(buffer + 16, size - 16);
-    memcpy(buffer + 12, &crc, 4);
-    if (ml::read_scene(buffer, size, &scene).ok()) walk(scene);
-  }
+  if (ml::read_scene(buffer, size, &scene, ml::CrcCheck::Check).ok()) walk(scene);
+  if (ml::read_scene(buffer, size, &scene, ml::CrcCheck::Skip).ok()) walk(scene);
   free(buffer);
   return 0;
 }

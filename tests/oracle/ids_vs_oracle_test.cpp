@@ -192,21 +192,42 @@ INSTANTIATE_TEST_SUITE_P(Renderers, OracleIds, ::testing::Values(ml::RendererKin
                            return info.param == ml::RendererKind::Tiler ? std::string("Tiler") : std::string("Scanline");
                          });
 
+// Triangles that the BSP split into pieces (a piece that is not the whole triangle).
+std::vector<bool> split_triangles(const ml::Scene& scene) {
+  std::vector<bool> split(scene.triangle_count, false);
+  for (uint32_t p = 0; p < scene.bsp_piece_count; ++p) {
+    const ml::BspPiece piece = ml::bsp_piece(scene, p);
+    const ml::Triangle t = ml::triangle_at(scene, piece.triangle);
+    if (piece.v[0] != t.v[0] || piece.v[1] != t.v[1] || piece.v[2] != t.v[2]) split[piece.triangle] = true;
+  }
+  return split;
+}
+
 // Tiler and scanline ids agree at every pixel whose front surface is not a depth tie -- near edges too,
-// since both use src/view's edge functions and fill rule.
+// since both use src/view's edge functions and fill rule. The one exception is documented
+// (docs/scene-blob.md, BSP): a piece of a split triangle has quantized split points, and where the
+// tiler cannot tie a piece edge to its triangle's edge it tiles the piece as it is, so a sample within
+// one subpixel (1/256 pixel) of the edge of a split triangle may go to the neighbour. Such slivers are
+// counted and must stay rare.
 void check_renderers_agree(const ml::Scene& scene, const ml::Camera& camera) {
+  const std::vector<bool> split = split_triangles(scene);
+  auto is_split = [&](uint32_t id) { return id > 0 && id <= split.size() && split[id - 1]; };
   const IdImage t = render_ids(scene, camera, ml::RendererKind::Tiler);
   const IdImage s = render_ids(scene, camera, ml::RendererKind::Scanline);
   ASSERT_TRUE(t.ok) << "tiler: " << t.error;
   ASSERT_TRUE(s.ok) << "scanline: " << s.error;
   const oracle::Result ref = oracle::rasterize(oracle::scene_triangles(scene), oracle::to_oracle_camera(camera));
-  size_t compared = 0, differ = 0, differ_away_from_edges = 0;
+  size_t compared = 0, differ = 0, differ_away_from_edges = 0, slivers = 0;
   std::string first;
   for (int y = 0; y < camera.height; ++y)
     for (int x = 0; x < camera.width; ++x) {
       const size_t i = ref.index(x, y);
       if (ref.ambiguous[i]) continue;
       ++compared;
+      if (t.ids[i] != s.ids[i] && ref.edge_distance[i] < 1.0 / 256 && (is_split(t.ids[i]) || is_split(s.ids[i]))) {
+        ++slivers;
+        continue;
+      }
       if (t.ids[i] != s.ids[i] && ref.edge_distance[i] > kEdgeClearance) ++differ_away_from_edges;
       if (t.ids[i] != s.ids[i] && differ++ == 0)
         first = "pixel (" + std::to_string(x) + "," + std::to_string(y) + "): tiler " + std::to_string(t.ids[i]) +
@@ -217,6 +238,7 @@ void check_renderers_agree(const ml::Scene& scene, const ml::Camera& camera) {
   EXPECT_EQ(differ, 0u) << differ << " of " << compared << " pixels differ (" << differ_away_from_edges
                         << " of them farther than 1/16 pixel from every edge); first: " << first;
   EXPECT_GT(compared, size_t(camera.width) * size_t(camera.height) / 2);
+  EXPECT_LE(slivers, 1 + compared / 10000) << "split-piece slivers";
 }
 
 TEST(OracleRenderersAgree, DefaultEngineAndRandomScenes) {

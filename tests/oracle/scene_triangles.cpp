@@ -8,7 +8,7 @@ std::vector<Triangle> scene_triangles(const ml::Scene& scene) {
     ml::Vec3i w[3];
     ml::triangle_world(scene, id, w);
     for (int k = 0; k < 3; ++k) out[id].v[k] = {double(w[k].x), double(w[k].y), double(w[k].z)};
-    const ml::Batch& batch = scene.batches[scene.triangles[id].batch];
+    const ml::Batch& batch = scene.batches[ml::triangle_at(scene, id).batch];
     out[id].double_sided = scene.materials[batch.material].double_sided != 0;
   }
   return out;

@@ -45,8 +45,8 @@ inline void build(const std::vector<Material>& mats, const std::vector<Prim>& pr
     m.push_back(e);
   }
   std::vector<ml::Batch> batches;
-  std::vector<ml::Vertex> verts;
-  std::vector<ml::Triangle> tris;
+  std::vector<ml::PackedVertex> verts;
+  std::vector<ml::PackedTriangle<uint16_t>> tris;   // narrow indices (blob_format.h)
   int32_t lo[3] = {1 << 30, 1 << 30, 1 << 30}, hi[3] = {-(1 << 30), -(1 << 30), -(1 << 30)};
   for (const Prim& p : prims) {
     ml::Batch b{};
@@ -58,7 +58,7 @@ inline void build(const std::vector<Material>& mats, const std::vector<Prim>& pr
     b.triangle_count = uint32_t(p.tris.size());
     for (int a = 0; a < 3; ++a) { b.scale[a] = 1 << 16; b.offset[a] = 0; }
     for (size_t i = 0; i < p.pos.size(); ++i) {
-      ml::Vertex v{};
+      ml::PackedVertex v{};
       for (int a = 0; a < 3; ++a) {
         v.position[a] = int16_t(p.pos[i][a]);
         lo[a] = std::min(lo[a], p.pos[i][a]);
@@ -68,9 +68,9 @@ inline void build(const std::vector<Material>& mats, const std::vector<Prim>& pr
       verts.push_back(v);
     }
     for (const auto& t : p.tris) {
-      ml::Triangle tr{};
-      for (int k = 0; k < 3; ++k) tr.v[k] = b.first_vertex + t[k];
-      tr.batch = uint32_t(batches.size());
+      ml::PackedTriangle<uint16_t> tr{};
+      for (int k = 0; k < 3; ++k) tr.v[k] = uint16_t(b.first_vertex + t[k]);
+      tr.batch = uint16_t(batches.size());
       tris.push_back(tr);
     }
     batches.push_back(b);
@@ -91,8 +91,8 @@ inline void build(const std::vector<Material>& mats, const std::vector<Prim>& pr
       {ml::SectionType::Info, &info, uint32_t(sizeof info), 1},
       {ml::SectionType::Materials, m.data(), uint32_t(m.size() * sizeof(ml::Material)), uint32_t(m.size())},
       {ml::SectionType::Batches, batches.data(), uint32_t(batches.size() * sizeof(ml::Batch)), uint32_t(batches.size())},
-      {ml::SectionType::Vertices, verts.data(), uint32_t(verts.size() * sizeof(ml::Vertex)), uint32_t(verts.size())},
-      {ml::SectionType::Triangles, tris.data(), uint32_t(tris.size() * sizeof(ml::Triangle)), uint32_t(tris.size())},
+      {ml::SectionType::Vertices, verts.data(), uint32_t(verts.size() * sizeof(ml::PackedVertex)), uint32_t(verts.size())},
+      {ml::SectionType::Triangles, tris.data(), uint32_t(tris.size() * sizeof(tris[0])), uint32_t(tris.size())},
   };
   const uint32_t nsec = 5;
   size_t offset = sizeof(ml::BlobHeader) + nsec * sizeof(ml::SectionEntry);

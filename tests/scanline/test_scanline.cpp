@@ -97,7 +97,7 @@ std::vector<uint32_t> coverage_ids(const ml::Scene& scene, const ml::Camera& cam
   std::vector<uint32_t> ids(size_t(cam.width) * size_t(cam.height), 0);
   count->assign(ids.size(), 0);
   for (uint32_t id = 0; id < scene.triangle_count; ++id) {
-    const ml::Material& m = scene.materials[scene.batches[scene.triangles[id].batch].material];
+    const ml::Material& m = scene.materials[scene.batches[ml::triangle_at(scene, id).batch].material];
     ml::Vec3i w[3];
     ml::triangle_world(scene, id, w);
     ml::ScreenTriangle pieces[ml::kMaxClipTriangles];

@@ -183,7 +183,7 @@ TEST(SceneReader, HeaderChecks) {
   Scene s;
   EXPECT_EQ(std::string(read_scene(nullptr, 100, &s).message), "blob is null");
   EXPECT_EQ(corrupt([](Blob* b) { scenetest::header(b)->magic ^= 1; }, false), "bad magic");
-  EXPECT_EQ(corrupt([](Blob* b) { scenetest::header(b)->version = 2; }, false), "unsupported blob version");
+  EXPECT_EQ(corrupt([](Blob* b) { scenetest::header(b)->version = 1; }, false), "unsupported blob version");  // the unpacked format
   EXPECT_EQ(corrupt([](Blob* b) { scenetest::header(b)->header_bytes = 32; }, false), "bad header size");
   EXPECT_EQ(corrupt([](Blob* b) { scenetest::header(b)->total_size += 8; }, false),
             "total size does not match blob size");
@@ -295,20 +295,58 @@ TEST(SceneReader, MaterialNodeBatchChecks) {
             "batch positions out of range");
 }
 
+using Tri16 = PackedTriangle<uint16_t>;
+using Node16 = PackedBspNode<uint16_t>;
+using Split16 = PackedSplitPiece<uint16_t>;
+
 TEST(SceneReader, VertexAndTriangleChecks) {
   EXPECT_EQ(corrupt([](Blob* b) {
-              Vertex* v = section<Vertex>(b, SectionType::Vertices);
+              PackedVertex* v = section<PackedVertex>(b, SectionType::Vertices);
               v[3].normal[0] = 30000;
               v[3].normal[1] = v[3].normal[2] = 0;
             }),
             "vertex normal not unit length");
-  EXPECT_EQ(corrupt([](Blob* b) { section<Triangle>(b, SectionType::Triangles)[5].batch = 2; }),
+  EXPECT_EQ(corrupt([](Blob* b) { section<Tri16>(b, SectionType::Triangles)[5].batch = 2; }),
             "triangle batch index out of range");
-  EXPECT_EQ(corrupt([](Blob* b) { section<Triangle>(b, SectionType::Triangles)[5].batch = 1; }),
+  EXPECT_EQ(corrupt([](Blob* b) { section<Tri16>(b, SectionType::Triangles)[5].batch = 1; }),
             "triangle outside its batch's range");
-  EXPECT_EQ(corrupt([](Blob* b) { section<Triangle>(b, SectionType::Triangles)[5].v[2] = 30; }),
+  EXPECT_EQ(corrupt([](Blob* b) { section<Tri16>(b, SectionType::Triangles)[5].v[2] = 30; }),
             "triangle vertex index out of range");   // a vertex of the other batch
-  EXPECT_EQ(corrupt([](Blob* b) { section<Triangle>(b, SectionType::Triangles)[20].v[0] = 0xFFFFFFFFu; }),
+  EXPECT_EQ(corrupt([](Blob* b) { section<Tri16>(b, SectionType::Triangles)[20].v[0] = 0xFFFF; }),
+            "triangle vertex index out of range");
+}
+
+TEST(SceneReader, IndexWidthAndInfoFlags) {
+  Scene s;
+  ASSERT_TRUE(scenetest::read(small_blob(), &s).ok());
+  EXPECT_FALSE(s.wide);
+  // The flag changes every index section's element size.
+  EXPECT_EQ(corrupt([](Blob* b) { section<SceneInfo>(b, SectionType::Info)->flags ^= kWideIndices; }),
+            "section size does not match count");
+  EXPECT_EQ(corrupt([](Blob* b) { section<SceneInfo>(b, SectionType::Info)->flags |= 1u << 20; }),
+            "info flags unknown");
+  EXPECT_EQ(corrupt([](Blob* b) {
+              SceneInfo* i = section<SceneInfo>(b, SectionType::Info);
+              i->flags = (i->flags & ~(kBoundsShiftMask << kBoundsShiftBit)) | (13u << kBoundsShiftBit);
+            }),
+            "bsp bounds cell too large");
+  // A scene of 100,000 triangles needs 32-bit indices.
+  const CompileResult& big = cached("tessellated");
+  ASSERT_TRUE(big.ok);
+  Scene w;
+  ASSERT_TRUE(scenetest::read(big.blob, &w).ok());
+  EXPECT_TRUE(w.wide);
+}
+
+TEST(SceneReader, CrcIsOptional) {
+  Blob blob = small_blob();
+  scenetest::header(&blob)->crc32 ^= 1;
+  Scene s;
+  EXPECT_EQ(std::string(read_scene(blob.data(), blob.size, &s, CrcCheck::Check).message), "crc mismatch");
+  EXPECT_TRUE(read_scene(blob.data(), blob.size, &s, CrcCheck::Skip).ok());
+  // Without the CRC the structural checks still catch a bad index.
+  section<Tri16>(&blob, SectionType::Triangles)[20].v[0] = 0xFFFF;
+  EXPECT_EQ(std::string(read_scene(blob.data(), blob.size, &s, CrcCheck::Skip).message),
             "triangle vertex index out of range");
 }
 
@@ -317,46 +355,65 @@ TEST(SceneReader, BspChecks) {
   Scene s;
   ASSERT_TRUE(scenetest::read(good, &s).ok());
   ASSERT_GE(s.bsp_node_count, 3u);
-  // A node with two children, and the last node's parent slot.
-  uint32_t two = kNone, parent_of_last = kNone;
-  bool last_is_front = false;
+  ASSERT_GT(s.bsp_split_count, 0u);
+  // A node with two children, the last node's parent, and a leaf.
+  uint32_t two = kNone, parent_of_last = kNone, leaf = kNone;
   for (uint32_t i = 0; i < s.bsp_node_count; ++i) {
-    if (two == kNone && s.bsp_nodes[i].front != kNone && s.bsp_nodes[i].back != kNone) two = i;
-    if (s.bsp_nodes[i].front == s.bsp_node_count - 1) { parent_of_last = i; last_is_front = true; }
-    if (s.bsp_nodes[i].back == s.bsp_node_count - 1) parent_of_last = i;
+    const BspNode n = bsp_node(s, i);
+    if (two == kNone && n.front != kNone && n.back != kNone) two = i;
+    if (n.front == s.bsp_node_count - 1 || n.back == s.bsp_node_count - 1) parent_of_last = i;
+    if (leaf == kNone && n.front == kNone && n.back == kNone) leaf = i;
   }
   ASSERT_NE(parent_of_last, kNone);
-  auto nodes = [](Blob* b) { return section<BspNode>(b, SectionType::BspNodes); };
+  ASSERT_NE(leaf, kNone);
+  auto nodes = [](Blob* b) { return section<Node16>(b, SectionType::BspNodes); };
   const uint32_t count = s.bsp_node_count;
-  EXPECT_EQ(corrupt([&](Blob* b) { (last_is_front ? nodes(b)[parent_of_last].front : nodes(b)[parent_of_last].back) = count; }),
-            "bsp child index out of range");
-  EXPECT_EQ(corrupt([&](Blob* b) { (last_is_front ? nodes(b)[parent_of_last].front : nodes(b)[parent_of_last].back) = 0; }),
-            "bsp child is the root");
-  // A cycle: the last node points back at node 1.
-  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[count - 1].front = 1; }), "bsp node referenced twice");
-  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[count - 1].back = count - 1; }), "bsp node referenced twice");
-  EXPECT_EQ(corrupt([&](Blob* b) { (last_is_front ? nodes(b)[parent_of_last].front : nodes(b)[parent_of_last].back) = kNone; }),
+  auto point_last_at = [&](uint32_t target) {
+    return [&, target](Blob* b) {
+      nodes(b)[count - 1].children = kFrontChild;
+      nodes(b)[count - 1].first_child = uint16_t(target);
+    };
+  };
+  EXPECT_EQ(corrupt(point_last_at(count)), "bsp child index out of range");
+  EXPECT_EQ(corrupt(point_last_at(0)), "bsp child is the root");
+  EXPECT_EQ(corrupt(point_last_at(1)), "bsp node referenced twice");   // a cycle
+  EXPECT_EQ(corrupt([&](Blob* b) {
+              Node16& p = nodes(b)[parent_of_last];
+              if (p.children & kBackChild) {
+                p.children &= uint8_t(~kBackChild);
+              } else {
+                p.children = 0;
+                p.first_child = 0;
+              }
+            }),
             "bsp node unreachable");
   if (two != kNone) {
-    EXPECT_EQ(corrupt([&](Blob* b) { std::swap(nodes(b)[two].front, nodes(b)[two].back); }),
-              "bsp nodes not in breadth-first order");
+    EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[two].first_child += 1; }), "bsp nodes not in breadth-first order");
   }
-  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[0].normal[0] = kUnitOne + 1; }), "bsp normal out of range");
+  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[0].children = 4; }), "bsp node flags invalid");
+  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[0].reserved = 1; }), "bsp node flags invalid");
+  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[leaf].first_child = 2; }), "bsp leaf has a child index");
+  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[0].normal[0] = kNormalOne + 1; }), "bsp normal out of range");
   EXPECT_EQ(corrupt([&](Blob* b) {
-              nodes(b)[0].normal[0] = kUnitOne / 2;
+              nodes(b)[0].normal[0] = kNormalOne / 2;
               nodes(b)[0].normal[1] = 0;
               nodes(b)[0].normal[2] = 0;
             }),
             "bsp normal not unit length");
-  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[0].d = int64_t(1) << 51; }), "bsp plane offset out of range");
-  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[1].first_piece += 1; }), "bsp piece ranges not contiguous");
-  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[count - 1].piece_count += 1; }), "bsp piece range out of range");
-  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[count - 1].piece_count -= 1; }), "bsp pieces not covered by nodes");
+  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[0].first_piece = 1; }), "bsp piece ranges not contiguous");
+  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[2].first_piece = uint16_t(nodes(b)[1].first_piece - 1); }),
+            "bsp piece ranges not contiguous");
+  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[count - 1].first_piece = uint16_t(s.bsp_piece_count + 1); }),
+            "bsp piece range out of range");
   EXPECT_EQ(corrupt([&](Blob* b) { section<SceneInfo>(b, SectionType::Info)->bsp_depth -= 1; }),
             "bsp deeper than info bsp_depth");
-  EXPECT_EQ(corrupt([&](Blob* b) { section<BspPiece>(b, SectionType::BspPieces)[3].v[1] = 1u << 30; }),
+  EXPECT_EQ(corrupt([&](Blob* b) {
+              section<uint16_t>(b, SectionType::BspPieces)[3] = uint16_t(s.triangle_count + s.bsp_split_count);
+            }),
+            "bsp piece reference out of range");
+  EXPECT_EQ(corrupt([&](Blob* b) { section<Split16>(b, SectionType::BspSplits)[0].v[1] = 60000; }),
             "bsp piece vertex index out of range");
-  EXPECT_EQ(corrupt([&](Blob* b) { section<BspPiece>(b, SectionType::BspPieces)[3].triangle = 24; }),
+  EXPECT_EQ(corrupt([&](Blob* b) { section<Split16>(b, SectionType::BspSplits)[0].triangle = 24; }),
             "bsp piece triangle out of range");
   EXPECT_EQ(corrupt([&](Blob* b) {
               SectionEntry* e = scenetest::find_section(b, SectionType::BspNodes);
@@ -376,18 +433,19 @@ TEST(SceneReader, BspSubtreeChecks) {
   Scene s;
   ASSERT_TRUE(scenetest::read(good, &s).ok());
   ASSERT_GE(s.bsp_node_count, 3u);
-  auto nodes = [](Blob* b) { return section<BspNode>(b, SectionType::BspNodes); };
-  // A leaf with pieces whose box has extent along some axis, a child and its parent.
+  auto nodes = [](Blob* b) { return section<Node16>(b, SectionType::BspNodes); };
+  const Node16* packed = static_cast<const Node16*>(s.bsp_nodes);
+  // A leaf with pieces whose box spans more than one cell along some axis, a child and its parent.
   uint32_t wide = kNone, child = kNone, parent = kNone;
   int axis = 0;
   for (uint32_t i = 0; i < s.bsp_node_count; ++i) {
-    const BspNode& n = s.bsp_nodes[i];
+    const BspNode n = bsp_node(s, i);
     for (int a = 0; a < 3 && wide == kNone; ++a)
-      if (n.piece_count > 0 && n.front == kNone && n.back == kNone && n.bounds_min[a] < n.bounds_max[a]) {
+      if (n.piece_count > 0 && n.front == kNone && n.back == kNone && packed[i].cells[a] < packed[i].cells[3 + a]) {
         wide = i;
         axis = a;
       }
-    if (child == kNone && n.front != kNone) {
+    if (child == kNone && n.front != kNone && packed[i].cells[3] < 255) {
       parent = i;
       child = n.front;
     }
@@ -395,13 +453,12 @@ TEST(SceneReader, BspSubtreeChecks) {
   ASSERT_NE(wide, kNone);
   ASSERT_NE(child, kNone);
   const uint32_t last = s.bsp_node_count - 1;
-  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[last].bounds_min[1] = nodes(b)[last].bounds_max[1] + 1; }),
+  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[last].cells[1] = uint8_t(nodes(b)[last].cells[4] + 1); }),
             "bsp bounds min above max");
-  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[0].bounds_min[2] = -(1 << 18); }), "bsp bounds out of range");
-  // Shrinking a node's box leaves its parent's check intact and strands a vertex at the old face.
-  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[wide].bounds_max[axis] -= 1; }),
+  // Shrinking a node's box leaves its parent's check intact and strands a vertex in the old top cell.
+  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[wide].cells[3 + axis] -= 1; }),
             "bsp piece vertex outside node bounds");
-  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[child].bounds_max[0] = nodes(b)[parent].bounds_max[0] + 1; }),
+  EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[child].cells[3] = uint8_t(nodes(b)[parent].cells[3] + 1); }),
             "bsp child bounds outside parent bounds");
   EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[0].subtree_pieces += 1; }), "bsp subtree piece count wrong");
   EXPECT_EQ(corrupt([&](Blob* b) { nodes(b)[last].subtree_pieces += 1; }), "bsp subtree piece count wrong");

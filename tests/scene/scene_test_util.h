@@ -160,7 +160,7 @@ inline std::vector<uint32_t> bsp_order(const ml::Scene& s, const ml::Vec3i& eye)
   std::vector<Frame> stack{{0, 0}};
   while (!stack.empty()) {
     Frame& f = stack.back();
-    const ml::BspNode& n = s.bsp_nodes[f.node];
+    const ml::BspNode& n = ml::bsp_node(s, f.node);
     const int64_t side = int64_t(n.normal[0]) * eye.x + int64_t(n.normal[1]) * eye.y +
                          int64_t(n.normal[2]) * eye.z - n.d;
     const uint32_t first = side >= 0 ? n.front : n.back;

@@ -21,6 +21,13 @@ using scenetest::base64;
 
 namespace {
 
+// TEXCOORD_0 of a vertex through the scene's one UV accessor.
+std::array<int32_t, 2> uv_of(const Scene& s, uint32_t v) {
+  std::array<int32_t, 2> uv{};
+  vertex_uv(s, v, uv.data());
+  return uv;
+}
+
 
 float bits_to_float(uint32_t u) {
   float f;
@@ -313,7 +320,7 @@ TEST(SceneGltf, TriangleIdsFollowNodesPrimitivesAndIndices) {
   for (uint32_t t = 0; t < s.triangle_count; ++t) {
     Vec3i got[3];
     triangle_world(s, t, got);
-    const Batch& b = s.batches[s.triangles[t].batch];
+    const Batch& b = s.batches[ml::triangle_at(s, t).batch];
     const double tol = 1.5 + std::max(b.scale[0], std::max(b.scale[1], b.scale[2])) / 65536.0;
     for (int v = 0; v < 3; ++v) {
       const P3& e = w.expected[t][size_t(v)];
@@ -357,25 +364,25 @@ TEST(SceneGltf, TriangleIdsFollowNodesPrimitivesAndIndices) {
   EXPECT_EQ(s.materials[1].alpha_mode, uint8_t(AlphaMode::Opaque));
   EXPECT_EQ(s.materials[1].base_color[0], s.materials[1].base_color[1]);
   EXPECT_GT(s.materials[1].base_color[0], 150);
-  EXPECT_EQ(s.batches[s.triangles[0].batch].material, 0u);
-  EXPECT_EQ(s.batches[s.triangles[2].batch].material, 1u);
+  EXPECT_EQ(s.batches[ml::triangle_at(s, 0).batch].material, 0u);
+  EXPECT_EQ(s.batches[ml::triangle_at(s, 2).batch].material, 1u);
   // Normals: rotated (0,0,1) stays (0,0,1); (1,1,0) under scale (2,1,1) becomes (0.5,1,0) normalized.
-  const Vertex& turned = s.vertices[s.triangles[5].v[0]];
+  const PackedVertex& turned = s.vertices[ml::triangle_at(s, 5).v[0]];
   EXPECT_EQ(turned.normal[0], 0);
   EXPECT_EQ(turned.normal[1], 0);
   EXPECT_EQ(turned.normal[2], kNormalOne);
-  const Vertex& stretched = s.vertices[s.triangles[15].v[0]];
+  const PackedVertex& stretched = s.vertices[ml::triangle_at(s, 15).v[0]];
   EXPECT_NEAR(stretched.normal[0], 0.5 / std::sqrt(1.25) * kNormalOne, 1.0);
   EXPECT_NEAR(stretched.normal[1], 1.0 / std::sqrt(1.25) * kNormalOne, 1.0);
   EXPECT_EQ(stretched.normal[2], 0);
-  const Vertex& no_normals = s.vertices[s.triangles[2].v[0]];
+  const PackedVertex& no_normals = s.vertices[ml::triangle_at(s, 2).v[0]];
   EXPECT_EQ(no_normals.normal[0] | no_normals.normal[1] | no_normals.normal[2], 0);
   // Texture coordinates in Q16.16.
-  const Triangle& t1 = s.triangles[1];
-  EXPECT_EQ(s.vertices[t1.v[0]].uv[0], 65536);
-  EXPECT_EQ(s.vertices[t1.v[1]].uv[1], 65536);
-  EXPECT_EQ(s.vertices[t1.v[2]].uv[0], 32768);
-  EXPECT_EQ(s.vertices[t1.v[2]].uv[1], 147456);
+  const Triangle& t1 = ml::triangle_at(s, 1);
+  EXPECT_EQ(uv_of(s, t1.v[0])[0], 65536);
+  EXPECT_EQ(uv_of(s, t1.v[1])[1], 65536);
+  EXPECT_EQ(uv_of(s, t1.v[2])[0], 32768);
+  EXPECT_EQ(uv_of(s, t1.v[2])[1], 147456);
 }
 
 TEST(SceneGltf, DefaultSceneIsHonoured) {

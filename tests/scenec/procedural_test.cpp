@@ -22,7 +22,7 @@ double winding_agreement(const Scene& s) {
     const double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
     if (std::sqrt(nx * nx + ny * ny + nz * nz) < 1.0) continue;
     double sx = 0, sy = 0, sz = 0;
-    for (uint32_t v : s.triangles[t].v) {
+    for (uint32_t v : ml::triangle_at(s, t).v) {
       sx += s.vertices[v].normal[0];
       sy += s.vertices[v].normal[1];
       sz += s.vertices[v].normal[2];

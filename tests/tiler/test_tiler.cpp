@@ -486,10 +486,14 @@ TEST(TilerRender, SplitPiecesCoverExactlyTheirTriangles) {
   ASSERT_EQ(ts.nodes.size(), 1u);
   ts.nodes[0].first_piece = 0;
   ts.nodes[0].piece_count = uint32_t(pieces.size());
-  ts.scene.bsp_pieces = ts.pieces.data();
-  ts.scene.bsp_piece_count = uint32_t(ts.pieces.size());
-  ts.scene.vertices = ts.vertices.data();
-  ts.scene.vertex_count = uint32_t(ts.vertices.size());
+  ts.nodes[0].subtree_pieces = uint32_t(pieces.size());
+  for (const ml::Vertex& v : ts.vertices)
+    for (int a = 0; a < 3; ++a) {
+      ts.nodes[0].bounds_min[a] = std::min<int32_t>(ts.nodes[0].bounds_min[a], v.position[a]);
+      ts.nodes[0].bounds_max[a] = std::max<int32_t>(ts.nodes[0].bounds_max[a], v.position[a]);
+    }
+  ts.pack();
+  ASSERT_TRUE(ts.status.ok()) << ts.status.message;
   for (auto [w, h] : {std::pair<int, int>{160, 120}, {320, 240}, {97, 131}}) {
     const ml::Camera cam = tiler_test::test_camera(w, h);
     Frame f = render(ts.scene, cam, ml::ShadingMode::Ids);
@@ -602,16 +606,25 @@ TEST(TilerRender, BackFacesCulledUnlessDoubleSided) {
 
 // The same scene with every BSP subtree box widened to the whole world range: the eye is inside every
 // box, so no subtree can be culled (the tiler's reference for "culling off").
+// The packed nodes are copied with every box set to the whole grid, and the grid (origin and cell in
+// a copy of SceneInfo) to [-2^19, 2^19).
 struct Unculled {
-  std::vector<ml::BspNode> nodes;
+  std::vector<uint8_t> nodes;
+  ml::SceneInfo info;
   ml::Scene scene;
-  explicit Unculled(const ml::Scene& s) : nodes(s.bsp_nodes, s.bsp_nodes + s.bsp_node_count), scene(s) {
-    for (ml::BspNode& n : nodes)
-      for (int a = 0; a < 3; ++a) {
-        n.bounds_min[a] = -(1 << 18) + 1;
-        n.bounds_max[a] = (1 << 18) - 1;
-      }
+  explicit Unculled(const ml::Scene& s) : info(*s.info), scene(s) {
+    widen(s.wide ? sizeof(ml::PackedBspNode<uint32_t>) : sizeof(ml::PackedBspNode<uint16_t>),
+          s.wide ? offsetof(ml::PackedBspNode<uint32_t>, cells) : offsetof(ml::PackedBspNode<uint16_t>, cells));
+    for (int a = 0; a < 3; ++a) info.bounds_min[a] = -(1 << 19);
+    scene.info = &info;
+    scene.bounds_shift = 12;
     scene.bsp_nodes = nodes.data();
+  }
+  void widen(size_t node_bytes, size_t cells_at) {
+    const uint8_t* src = static_cast<const uint8_t*>(scene.bsp_nodes);
+    nodes.assign(src, src + node_bytes * scene.bsp_node_count);
+    for (size_t i = 0; i < scene.bsp_node_count; ++i)
+      for (int k = 0; k < 6; ++k) nodes[i * node_bytes + cells_at + size_t(k)] = k < 3 ? 0 : 255;
   }
 };
 

@@ -15,6 +15,7 @@
 #include "core/sink.h"
 #include "scene/scene.h"
 #include "tiler/pyramid.h"
+#include "tools/scenec/scenec.h"
 #include "tiler/tile.h"
 #include "view/view.h"
 
@@ -202,7 +203,7 @@ struct TestScene {
   std::vector<ml::BspNode> nodes;
   std::vector<ml::BspPiece> pieces;
   ml::SceneInfo info{};
-  ml::Scene scene;
+  ml::Scene scene;   // read from `blob` by pack()
 
   // Vertices are shared when equal (so meshes are watertight).
   void build(const std::vector<Tri>& tris) {
@@ -223,7 +224,7 @@ struct TestScene {
       materials.push_back(mat);
       ml::Batch b{};
       b.material = uint32_t(m);
-      b.node = 0;
+      b.node = ml::kNone;
       for (int i = 0; i < 3; ++i) b.scale[i] = 65536;
       batches.push_back(b);
     }
@@ -296,24 +297,67 @@ struct TestScene {
       return id;
     };
     make(0, int(zs.size()) - 1, 1);
+    to_breadth_first();
     info = ml::SceneInfo{};
     info.sphere_radius = 1000;
     info.bsp_depth = depth;
-    scene = ml::Scene{};
-    scene.info = &info;
-    scene.materials = materials.data();
-    scene.material_count = uint32_t(materials.size());
-    scene.batches = batches.data();
-    scene.batch_count = uint32_t(batches.size());
-    scene.vertices = vertices.data();
-    scene.vertex_count = uint32_t(vertices.size());
-    scene.triangles = triangles.data();
-    scene.triangle_count = uint32_t(triangles.size());
-    scene.bsp_nodes = nodes.data();
-    scene.bsp_node_count = uint32_t(nodes.size());
-    scene.bsp_pieces = pieces.data();
-    scene.bsp_piece_count = uint32_t(pieces.size());
+    pack();
   }
+
+  // The blob stores nodes breadth-first with each node's pieces in node order (blob_format.h).
+  void to_breadth_first() {
+    if (nodes.empty()) return;
+    std::vector<ml::BspNode> out;
+    std::vector<ml::BspPiece> out_pieces;
+    std::vector<uint32_t> order{0};
+    for (size_t i = 0; i < order.size(); ++i) {
+      ml::BspNode n = nodes[order[i]];
+      const uint32_t first = n.first_piece;
+      n.first_piece = uint32_t(out_pieces.size());
+      for (uint32_t p = 0; p < n.piece_count; ++p) out_pieces.push_back(pieces[first + p]);
+      for (uint32_t* c : {&n.front, &n.back}) {
+        if (*c == ml::kNone) continue;
+        order.push_back(*c);
+        *c = uint32_t(order.size() - 1);
+      }
+      out.push_back(n);
+    }
+    nodes = out;
+    pieces = out_pieces;
+  }
+
+  // Packs the tables into a blob (scenec's packer) and reads it back: `scene` is what a renderer
+  // gets from a file. Call again after changing the tables.
+  void pack() {
+    ml::SceneTables t;
+    t.info = info;
+    for (int a = 0; a < 3; ++a) {
+      t.info.bounds_min[a] = INT16_MAX;
+      t.info.bounds_max[a] = INT16_MIN;
+      for (const ml::Vertex& v : vertices) {
+        t.info.bounds_min[a] = std::min<int32_t>(t.info.bounds_min[a], v.position[a]);
+        t.info.bounds_max[a] = std::max<int32_t>(t.info.bounds_max[a], v.position[a]);
+      }
+      if (vertices.empty()) t.info.bounds_min[a] = t.info.bounds_max[a] = 0;
+    }
+    t.materials = materials;
+    t.batches = batches;
+    t.vertices = vertices;
+    t.triangles = triangles;
+    t.bsp_nodes = nodes;
+    t.bsp_pieces = pieces;
+    std::string error;
+    blob = ml::Blob();
+    scene = ml::Scene{};
+    if (!ml::pack_scene(t, &blob, &error)) {
+      status = ml::error(ml::StatusCode::BadScene, "pack failed");
+      return;
+    }
+    status = ml::read_scene(blob.data(), blob.size, &scene);
+  }
+
+  ml::Blob blob;
+  ml::Status status;
 };
 
 inline ml::Camera test_camera(int w, int h) {

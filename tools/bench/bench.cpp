@@ -70,7 +70,7 @@ ml::Status zbuffer_render(const ml::Scene& scene, const ml::Camera& camera, ml::
     ml::triangle_world(scene, id, world);
     const int count = ml::project_triangle(view, world, pieces);
     if (count == 0) continue;
-    const bool double_sided = scene.materials[scene.batches[scene.triangles[id].batch].material].double_sided != 0;
+    const bool double_sided = scene.materials[scene.batches[ml::triangle_at(scene, id).batch].material].double_sided != 0;
     bool drawn = false;
     for (int p = 0; p < count; ++p) {
       const ml::ScreenTriangle& tri = pieces[p];

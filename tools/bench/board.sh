@@ -40,10 +40,10 @@ add mps2-an385 "Cortex-M3" "bundled (3,826 triangles)" "320x240 RGB565" tiler "$
 add mps2-an385 "Cortex-M3" "bundled (3,826 triangles)" "320x240 RGB565" scanline "$work/mps2.txt"
 for r in tiler scanline; do
   run "lm3s-$r" lm3s6965evb "$fw/lm3s6965evb-$r.elf"
-  add lm3s6965evb "Cortex-M3" "office:1 (1,100 triangles)" "128x64 Grey4 OLED" $r "$work/lm3s-$r.txt"
+  add lm3s6965evb "Cortex-M3" "bundled (3,826 triangles)" "128x64 Grey4 OLED" $r "$work/lm3s-$r.txt"
 done
 run m0plus microbit "$fw/m0plus.elf"
-add "m0plus (microbit)" "Cortex-M0+ code" "office:1 (1,100 triangles)" "128x64 Grey4" tiler "$work/m0plus.txt"
+add "m0plus (microbit)" "Cortex-M0+ code" "bundled (3,826 triangles)" "128x64 Grey4" tiler "$work/m0plus.txt"
 # helpers ELF: the runtime helper functions linked (__aeabi_*, libgcc's __*si3/__*di2 ...), comma-separated
 helpers() { arm-none-eabi-nm "$1" | awk '$2 == "T" && ($3 ~ /^__aeabi_/ || $3 ~ /^__.*[sd]i[0-9]$/) { print $3 }' | sort -u | paste -sd, | sed 's/,/, /g'; }
 helpers_m3=$(helpers "$fw/mps2-an385.elf")

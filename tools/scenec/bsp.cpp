@@ -37,6 +37,12 @@ namespace scenec_detail {
 namespace {
 
 constexpr uint32_t kMaxAxisNodesOnPath = 40;
+// Largest set tested for one leaf of mutually hidden pieces (the test is quadratic).
+constexpr size_t kMaxHiddenLeafPieces = 2048;
+// Planes as the blob stores them: normal Q1.14 (a Q1.30 value times 2^16), offset Q12 (2^18 in Q1.30).
+constexpr int32_t kNormalToUnit = 1 << (kUnitBits - kNormalBits);
+constexpr int64_t kPlaneOffsetStep = int64_t(1) << 18;
+int64_t ceil_to_step(int64_t d) { return div_floor(d + kPlaneOffsetStep - 1, kPlaneOffsetStep) * kPlaneOffsetStep; }
 
 struct Piece {
   uint32_t v[3];
@@ -83,10 +89,13 @@ enum class Side { On, Front, Back, Split };
 
 class Builder {
  public:
-  Builder(const std::vector<Batch>& batches, const std::vector<Triangle>& triangles,
-          std::vector<Vertex>* vertices, const CompileOptions& options)
+  Builder(const std::vector<Material>& materials, const std::vector<Batch>& batches,
+          const std::vector<Triangle>& triangles, std::vector<Vertex>* vertices, const CompileOptions& options)
       : batches_(batches), triangles_(triangles), vertices_(*vertices), options_(options),
         rng_(options.bsp_seed) {
+    single_sided_.resize(batches_.size());
+    for (size_t i = 0; i < batches_.size(); ++i)
+      single_sided_[i] = batches_[i].material < materials.size() && materials[batches_[i].material].double_sided == 0;
     world_.resize(vertices_.size(), Vec3i{0, 0, 0});
     exact_.resize(vertices_.size());
     for (const Batch& b : batches_) {
@@ -107,6 +116,18 @@ class Builder {
           const int16_t* q = vertices_[i].position;
           const uint64_t key = (uint64_t(uint16_t(q[0])) << 32) | (uint64_t(uint16_t(q[1])) << 16) | uint16_t(q[2]);
           canon_[i] = seen.emplace(key, i).first->second;
+        }
+      }
+    }
+    // Mesh adjacency of the original vertices (by canonical id), for mesh-line planes.
+    neighbours_.resize(vertices_.size());
+    for (const Triangle& t : triangles_) {
+      for (int e = 0; e < 3; ++e) {
+        const uint32_t a = canon_[t.v[e]], b = canon_[t.v[(e + 1) % 3]];
+        if (a == b) continue;
+        for (auto [x, y] : {std::pair<uint32_t, uint32_t>{a, b}, {b, a}}) {
+          std::vector<uint32_t>& list = neighbours_[x];
+          if (std::find(list.begin(), list.end(), y) == list.end()) list.push_back(y);
         }
       }
     }
@@ -151,12 +172,17 @@ class Builder {
       if (task.parent != kNone) {
         (task.is_front ? nodes_[task.parent].front : nodes_[task.parent].back) = index;
       }
-      bool axis = false;
+      bool axis = false, cut = false;
       uint32_t plane_triangle = kNone;
-      const Plane plane = choose_plane(task.pieces, task.axis_nodes < kMaxAxisNodesOnPath, &axis, &plane_triangle);
       Task front, back;
       std::vector<Piece> on;
-      if (!axis && plane_triangle == kNone) {
+      Plane plane{};
+      if (mutually_hidden(task.pieces, &plane)) {
+        // No piece can hide another that is drawn: one leaf holds them all, in any order.
+        on = std::move(task.pieces);
+      } else if ((plane = choose_plane(task.pieces, task.axis_nodes < kMaxAxisNodesOnPath, &axis, &cut,
+                                       &plane_triangle)),
+                 !axis && !cut && plane_triangle == kNone) {
         // Only degenerate pieces left (no piece has a plane): they draw nothing and no plane separates
         // them, so they all stay in this leaf.
         on = std::move(task.pieces);
@@ -231,17 +257,19 @@ class Builder {
     const int64_t cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
     if (cx == 0 && cy == 0 && cz == 0) return false;
     const double len = std::sqrt(double(cx) * double(cx) + double(cy) * double(cy) + double(cz) * double(cz));
-    const double one = double(kUnitOne);
-    out->n[0] = int32_t(std::llround(double(cx) / len * one));
-    out->n[1] = int32_t(std::llround(double(cy) / len * one));
-    out->n[2] = int32_t(std::llround(double(cz) / len * one));
+    // The blob stores planes as Q1.14 normals and offsets in 1/4096 world unit (blob_format.h):
+    // classify against exactly that plane.
+    const double one = double(kNormalOne);
+    for (int k = 0; k < 3; ++k) out->n[k] = int32_t(std::llround(double(k == 0 ? cx : (k == 1 ? cy : cz)) / len * one)) * kNormalToUnit;
     const Vec3i n{out->n[0], out->n[1], out->n[2]};
-    out->d = div_round(dot64(n, a) + dot64(n, b) + dot64(n, c), 3);
+    out->d = div_round(div_round(dot64(n, a) + dot64(n, b) + dot64(n, c), 3), kPlaneOffsetStep) * kPlaneOffsetStep;
     return true;
   }
 
-  Plane choose_plane(const std::vector<Piece>& pieces, bool allow_axis, bool* chose_axis, uint32_t* triangle) {
+  Plane choose_plane(const std::vector<Piece>& pieces, bool allow_axis, bool* chose_axis, bool* chose_cut,
+                     uint32_t* triangle) {
     *chose_axis = false;
+    *chose_cut = false;
     *triangle = kNone;
     const size_t n = pieces.size();
     // Scoring sample.
@@ -278,6 +306,28 @@ class Builder {
         best_tri_id = tri_ids[i];
       }
     }
+    // Mesh-line planes: a plane through a triangle edge and the straightest continuation of that edge
+    // in the mesh (a meridian or a parallel of a tessellated sphere or torus) often splits nothing
+    // where every triangle plane splits many.
+    {
+      Plane best_cut{};
+      int64_t best_cut_score = INT64_MAX;
+      std::vector<Plane> cuts;
+      for (uint32_t t : tri_ids) add_line_planes(t, &cuts);
+      for (const Plane& c : cuts) {
+        const int64_t score = score_plane(c, pieces);
+        if (score < best_cut_score) {
+          best_cut_score = score;
+          best_cut = c;
+        }
+      }
+      if (best_cut_score < best_tri_score && cut_makes_progress(best_cut, pieces)) {
+        best_tri_score = best_cut_score;
+        best_tri = best_cut;
+        best_tri_id = kNone;
+        *chose_cut = true;
+      }
+    }
     if (allow_axis && n >= size_t(std::max(2, options_.bsp_axis_min_pieces))) {
       Plane best_axis{};
       int64_t best_axis_score = INT64_MAX;
@@ -297,7 +347,7 @@ class Builder {
           const int32_t at = ends[std::min(ends.size() - 1, size_t(f * double(ends.size() - 1) + 0.5))];
           Plane c{};
           c.n[axis] = kUnitOne;
-          c.d = (int64_t(at) + 3) * int64_t(kUnitOne) + eps_max_;
+          c.d = ceil_to_step((int64_t(at) + 3) * int64_t(kUnitOne) + eps_max_);
           const int64_t score = score_plane(c, pieces);
           if (score < best_axis_score) {
             best_axis_score = score;
@@ -307,9 +357,11 @@ class Builder {
       }
       if (best_axis_score < best_tri_score && axis_makes_progress(best_axis, pieces)) {
         *chose_axis = true;
+        *chose_cut = false;
         return best_axis;
       }
     }
+    if (*chose_cut) return best_tri;
     if (best_tri_score != INT64_MAX) {
       *triangle = best_tri_id;
       return best_tri;
@@ -345,6 +397,90 @@ class Builder {
     }
     const int64_t balance = pieces.size() <= size_t(options_.bsp_chain_pieces) ? 0 : options_.bsp_balance_weight;
     return split * options_.bsp_split_weight * 4 + (front > back ? front - back : back - front) * balance;
+  }
+
+  // True when the pieces can share one leaf: every piece is single-sided and lies behind (or within
+  // the in-plane band of) every other piece's triangle plane, like the faces of a convex solid. Of
+  // such a set, the pieces drawn (facing the eye) never overlap on screen: a piece B faces the eye, so
+  // the eye is in front of B's plane and the sight line to B stays in front of it, where no other
+  // piece reaches (but for the band). *plane gets one piece's plane (a leaf's plane orders nothing).
+  bool mutually_hidden(const std::vector<Piece>& pieces, Plane* plane) const {
+    if (pieces.size() < 2 || pieces.size() > kMaxHiddenLeafPieces) return false;
+    std::vector<Plane> planes(pieces.size());
+    std::vector<bool> has_plane(pieces.size());
+    for (size_t i = 0; i < pieces.size(); ++i) {
+      if (!single_sided_[triangles_[pieces[i].tri].batch]) return false;
+      has_plane[i] = triangle_plane(pieces[i].tri, &planes[i]);
+    }
+    bool any = false;
+    for (size_t b = 0; b < pieces.size(); ++b) {
+      if (!has_plane[b]) continue;
+      if (!any) *plane = planes[b];
+      any = true;
+      for (size_t a = 0; a < pieces.size(); ++a) {
+        if (a == b) continue;
+        const int64_t eps = std::max(eps_of(pieces[a]), eps_of(pieces[b]));
+        for (uint32_t v : pieces[a].v)
+          if (eval(planes[b], v) > eps) return false;
+      }
+    }
+    return any;
+  }
+
+  // Planes through each edge a-b of triangle t and the neighbour c of b that continues a-b most
+  // straightly (within about 30 degrees, not collinear).
+  void add_line_planes(uint32_t t, std::vector<Plane>* out) const {
+    const Triangle& tri = triangles_[t];
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t a = canon_[tri.v[e]], b = canon_[tri.v[(e + 1) % 3]];
+      const std::array<double, 3>& pa = exact_[a];
+      const std::array<double, 3>& pb = exact_[b];
+      const double ab[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+      const double lab = std::sqrt(ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2]);
+      if (!(lab > 0)) continue;
+      uint32_t best = kNone;
+      double best_cos = 0.85;
+      for (uint32_t c : neighbours_[b]) {
+        if (c == a) continue;
+        const std::array<double, 3>& pc = exact_[c];
+        const double bc[3] = {pc[0] - pb[0], pc[1] - pb[1], pc[2] - pb[2]};
+        const double lbc = std::sqrt(bc[0] * bc[0] + bc[1] * bc[1] + bc[2] * bc[2]);
+        if (!(lbc > 0)) continue;
+        const double cosine = (ab[0] * bc[0] + ab[1] * bc[1] + ab[2] * bc[2]) / (lab * lbc);
+        if (cosine > best_cos && cosine < 0.99999) {
+          best_cos = cosine;
+          best = c;
+        }
+      }
+      if (best == kNone) continue;
+      const std::array<double, 3>& pc = exact_[best];
+      const double bc[3] = {pc[0] - pb[0], pc[1] - pb[1], pc[2] - pb[2]};
+      const double n[3] = {ab[1] * bc[2] - ab[2] * bc[1], ab[2] * bc[0] - ab[0] * bc[2], ab[0] * bc[1] - ab[1] * bc[0]};
+      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      if (!(len > 0)) continue;
+      Plane p{};
+      for (int k = 0; k < 3; ++k) p.n[k] = int32_t(std::llround(n[k] / len * double(kNormalOne))) * kNormalToUnit;
+      const Vec3i nv{p.n[0], p.n[1], p.n[2]};
+      const int64_t sum = dot64(nv, world_[a]) + dot64(nv, world_[b]) + dot64(nv, world_[best]);
+      p.d = div_round(div_round(sum, 3), kPlaneOffsetStep) * kPlaneOffsetStep;
+      out->push_back(p);
+    }
+  }
+
+  // A mesh-line plane is taken only when each side keeps fewer pieces than the node (so the build
+  // terminates).
+  bool cut_makes_progress(const Plane& p, const std::vector<Piece>& pieces) const {
+    size_t front = 0, back = 0;
+    int64_t s[3];
+    for (const Piece& piece : pieces) {
+      switch (classify(p, piece, s)) {
+        case Side::Front: ++front; break;
+        case Side::Back: ++back; break;
+        case Side::Split: ++front; ++back; break;
+        case Side::On: break;
+      }
+    }
+    return front < pieces.size() && back < pieces.size();
   }
 
   bool axis_makes_progress(const Plane& p, const std::vector<Piece>& pieces) const {
@@ -646,6 +782,7 @@ class Builder {
   }
 
   const std::vector<Batch>& batches_;
+  std::vector<bool> single_sided_;             // per batch: its material culls back faces
   const std::vector<Triangle>& triangles_;
   std::vector<Vertex>& vertices_;
   const CompileOptions& options_;
@@ -661,6 +798,7 @@ class Builder {
   // T-junction bookkeeping: every split point lies on a line through the two vertices of the edge it
   // split; lines are shared by all vertices known to lie on them (by canonical id).
   std::vector<uint32_t> canon_;
+  std::vector<std::vector<uint32_t>> neighbours_;    // mesh neighbours of each original canonical vertex
   std::vector<uint32_t> vertex_batch_;
   std::vector<std::vector<uint32_t>> lines_of_;       // per canonical vertex
   std::vector<std::array<double, 6>> line_geom_;     // origin, direction (exact positions)
@@ -745,10 +883,10 @@ void fill_subtree_bounds(const std::vector<Batch>& batches, const std::vector<Tr
     }
 }
 
-bool build_bsp(const std::vector<Batch>& batches, const std::vector<Triangle>& triangles,
-               std::vector<Vertex>* vertices, const CompileOptions& options, BspResult* out,
-               std::string* error) {
-  Builder builder(batches, triangles, vertices, options);
+bool build_bsp(const std::vector<Material>& materials, const std::vector<Batch>& batches,
+               const std::vector<Triangle>& triangles, std::vector<Vertex>* vertices,
+               const CompileOptions& options, BspResult* out, std::string* error) {
+  Builder builder(materials, batches, triangles, vertices, options);
   return builder.run(out, error);
 }
 

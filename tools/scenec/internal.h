@@ -32,9 +32,9 @@ struct BspResult {
 
 // Builds a BSP over every triangle (see bsp.cpp). Split vertices are appended to *vertices, each
 // quantized with the batch of the triangle it splits. False with a one-line *error on failure.
-bool build_bsp(const std::vector<Batch>& batches, const std::vector<Triangle>& triangles,
-               std::vector<Vertex>* vertices, const CompileOptions& options, BspResult* out,
-               std::string* error);
+bool build_bsp(const std::vector<Material>& materials, const std::vector<Batch>& batches,
+               const std::vector<Triangle>& triangles, std::vector<Vertex>* vertices,
+               const CompileOptions& options, BspResult* out, std::string* error);
 
 // Fills every node's subtree_pieces and bounds_min/max (blob_format.h) from its pieces' vertices as
 // the renderer dequantizes them; one reverse pass (children follow their parent breadth-first).

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "scene/blob_format.h"
+#include "scene/scene.h"
 
 namespace ml {
 
@@ -45,6 +46,27 @@ bool read_input_file(const std::string& path, uint64_t max_bytes, std::vector<ui
 bool load_blob_file(const std::string& path, Blob* out, std::string* error);
 // Writes blob.size bytes to path (replacing it). On failure returns false with a one-line *error.
 bool save_blob_file(const std::string& path, const Blob& blob, std::string* error);
+
+// ---- decoded tables -> blob ---------------------------------------------------------------------------
+
+// A scene's tables in the decoded shapes of scene/scene.h, as the compiler (and tests) build them.
+struct SceneTables {
+  SceneInfo info{};                 // flags are set by pack_scene
+  std::vector<Material> materials;
+  std::vector<Batch> batches;
+  std::vector<Vertex> vertices;
+  std::vector<Triangle> triangles;
+  std::vector<Node> nodes;
+  std::vector<BspNode> bsp_nodes;   // breadth-first; bounds tight or wider (pack_scene widens them to cells)
+  std::vector<BspPiece> bsp_pieces;
+  std::vector<TextureRef> textures;
+};
+
+// Writes the packed blob (blob_format.h): 16-bit indices when every count fits, planes rounded to
+// Q1.14 normals and Q12 offsets, subtree boxes widened to whole grid cells, UVs only when some uv is
+// not zero, the CRC. It does not validate: read_scene judges the result. False with a one-line
+// *error only when something cannot be represented (a plane offset beyond int32).
+bool pack_scene(const SceneTables& tables, Blob* out, std::string* error);
 
 // ---- the in-memory scene (input of compile_mesh) ------------------------------------------------------
 
@@ -104,7 +126,7 @@ struct CompileOptions {
   int bsp_axis_positions = 3;         // axis-aligned candidate positions per axis
   int bsp_axis_min_pieces = 32;       // axis-aligned candidates only for at least this many pieces
   int bsp_sample_size = 512;          // pieces each candidate is scored on
-  int bsp_split_weight = 8;           // score = 4 * split_weight * splits + balance_weight * |front - back|
+  int bsp_split_weight = 16;          // score = 4 * split_weight * splits + balance_weight * |front - back|
   int bsp_balance_weight = 2;
   int bsp_chain_pieces = 0;           // sets up to this size ignore balance (split-free chains)
 };
@@ -120,6 +142,7 @@ struct CompileReport {
   uint32_t bsp_pieces = 0;
   uint32_t bsp_depth = 0;
   uint32_t bsp_split_vertices = 0;
+  uint32_t bsp_split_pieces = 0;  // pieces stored as parts of a split triangle (the rest are whole)
   double split_ratio = 0;       // bsp_pieces / triangles (0 without a BSP)
   double seconds = 0;           // wall time of the whole compile
   double bsp_seconds = 0;

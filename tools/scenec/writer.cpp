@@ -48,6 +48,13 @@ class BlobWriter {
     sections_.push_back(std::move(s));
   }
 
+  // A section whose elements are several T each (count elements, items.size() / count T per element).
+  template <typename T>
+  void add_raw(SectionType type, uint32_t count, const std::vector<T>& items) {
+    add(type, items);
+    sections_.back().count = count;
+  }
+
   bool finish(Blob* out, std::string* error) const {
     uint64_t offset = sizeof(BlobHeader) + sections_.size() * sizeof(SectionEntry);
     std::vector<SectionEntry> table;
@@ -88,6 +95,103 @@ class BlobWriter {
   };
   std::vector<Section> sections_;
 };
+
+// Index width of a blob: narrow (uint16_t) when every count an index field holds fits.
+bool needs_wide(const SceneTables& t, size_t split_pieces) {
+  const size_t limit = 0xFFFF;
+  return t.vertices.size() > limit || t.batches.size() > limit || t.bsp_nodes.size() > limit ||
+         t.bsp_pieces.size() > limit || t.triangles.size() + split_pieces > limit;
+}
+
+bool is_whole(const BspPiece& p, const std::vector<Triangle>& triangles) {
+  if (p.triangle >= triangles.size()) return false;
+  const Triangle& t = triangles[p.triangle];
+  return p.v[0] == t.v[0] && p.v[1] == t.v[1] && p.v[2] == t.v[2];
+}
+
+// log2 of the smallest power-of-two cell that spans the scene box in at most 256 cells per axis.
+int bounds_shift(const SceneInfo& info) {
+  int shift = 0;
+  for (int a = 0; a < 3; ++a) {
+    const int64_t extent = int64_t(info.bounds_max[a]) - info.bounds_min[a];
+    while (shift < 31 && (extent >> shift) > 255) ++shift;
+  }
+  return shift;
+}
+
+uint8_t cell_of(int64_t w, int32_t origin, int shift) {
+  return uint8_t(std::min<int64_t>(255, std::max<int64_t>(0, (w - origin) >> shift)));
+}
+
+template <typename Index>
+bool pack_tables(const SceneTables& t, Blob* out, std::string* error) {
+  SceneInfo info = t.info;
+  const int shift = bounds_shift(info);
+  info.flags = (sizeof(Index) == 4 ? kWideIndices : 0u) | (uint32_t(shift) << kBoundsShiftBit);
+
+  std::vector<PackedVertex> vertices(t.vertices.size());
+  std::vector<int32_t> uvs(2 * t.vertices.size());
+  bool any_uv = false;
+  for (size_t i = 0; i < t.vertices.size(); ++i) {
+    std::memcpy(vertices[i].position, t.vertices[i].position, sizeof(vertices[i].position));
+    std::memcpy(vertices[i].normal, t.vertices[i].normal, sizeof(vertices[i].normal));
+    uvs[2 * i] = t.vertices[i].uv[0];
+    uvs[2 * i + 1] = t.vertices[i].uv[1];
+    any_uv |= uvs[2 * i] != 0 || uvs[2 * i + 1] != 0;
+  }
+  std::vector<PackedTriangle<Index>> triangles(t.triangles.size());
+  for (size_t i = 0; i < t.triangles.size(); ++i) {
+    for (int k = 0; k < 3; ++k) triangles[i].v[k] = Index(t.triangles[i].v[k]);
+    triangles[i].batch = Index(t.triangles[i].batch);
+  }
+  std::vector<Index> pieces;
+  std::vector<PackedSplitPiece<Index>> splits;
+  for (const BspPiece& p : t.bsp_pieces) {
+    if (is_whole(p, t.triangles)) {
+      pieces.push_back(Index(p.triangle));
+      continue;
+    }
+    pieces.push_back(Index(t.triangles.size() + splits.size()));
+    splits.push_back(PackedSplitPiece<Index>{{Index(p.v[0]), Index(p.v[1]), Index(p.v[2])}, Index(p.triangle)});
+  }
+  std::vector<PackedBspNode<Index>> nodes(t.bsp_nodes.size());
+  for (size_t i = 0; i < t.bsp_nodes.size(); ++i) {
+    const BspNode& n = t.bsp_nodes[i];
+    PackedBspNode<Index>& o = nodes[i];
+    o = PackedBspNode<Index>{};
+    for (int a = 0; a < 3; ++a) o.normal[a] = int16_t(std::lround(double(n.normal[a]) / 65536.0));
+    const double d = std::nearbyint(double(n.d) / double(1 << 18));
+    if (!(d >= -2147483648.0 && d <= 2147483647.0)) {
+      *error = "bsp plane offset out of range";
+      return false;
+    }
+    o.d = int32_t(d);
+    o.children = uint8_t((n.front != kNone ? kFrontChild : 0) | (n.back != kNone ? kBackChild : 0));
+    o.first_child = Index(n.front != kNone ? n.front : (n.back != kNone ? n.back : 0));
+    o.first_piece = Index(n.first_piece);
+    o.subtree_pieces = Index(n.subtree_pieces);
+    for (int a = 0; a < 3; ++a) {
+      o.cells[a] = cell_of(n.bounds_min[a], info.bounds_min[a], shift);
+      o.cells[3 + a] = cell_of(n.bounds_max[a], info.bounds_min[a], shift);
+    }
+  }
+
+  BlobWriter writer;
+  writer.add(SectionType::Info, std::vector<SceneInfo>{info});
+  writer.add(SectionType::Materials, t.materials);
+  writer.add(SectionType::Batches, t.batches);
+  writer.add(SectionType::Vertices, vertices);
+  if (any_uv) writer.add_raw(SectionType::Uvs, uint32_t(t.vertices.size()), uvs);
+  writer.add(SectionType::Triangles, triangles);
+  writer.add(SectionType::Nodes, t.nodes);
+  if (!nodes.empty()) {
+    writer.add(SectionType::BspNodes, nodes);
+    writer.add(SectionType::BspPieces, pieces);
+    if (!splits.empty()) writer.add(SectionType::BspSplits, splits);
+  }
+  if (!t.textures.empty()) writer.add(SectionType::Textures, t.textures);
+  return writer.finish(out, error);
+}
 
 bool validate_mesh(const SceneMesh& mesh, std::string* error, size_t* triangle_total) {
   size_t triangles = 0, vertices = 0;
@@ -146,6 +250,13 @@ bool validate_mesh(const SceneMesh& mesh, std::string* error, size_t* triangle_t
 }
 
 }  // namespace
+
+bool pack_scene(const SceneTables& tables, Blob* out, std::string* error) {
+  size_t split_pieces = 0;
+  for (const BspPiece& p : tables.bsp_pieces) split_pieces += is_whole(p, tables.triangles) ? 0 : 1;
+  return needs_wide(tables, split_pieces) ? pack_tables<uint32_t>(tables, out, error)
+                                          : pack_tables<uint16_t>(tables, out, error);
+}
 
 CompileResult compile_mesh(const SceneMesh& mesh, const CompileOptions& options) {
   const auto start = std::chrono::steady_clock::now();
@@ -260,7 +371,7 @@ CompileResult compile_mesh(const SceneMesh& mesh, const CompileOptions& options)
     scenec_detail::BspResult bsp;
     if (options.build_bsp) {
       const auto bsp_start = std::chrono::steady_clock::now();
-      if (!scenec_detail::build_bsp(batches, triangles, &vertices, options, &bsp, &result.error)) return result;
+      if (!scenec_detail::build_bsp(materials, batches, triangles, &vertices, options, &bsp, &result.error)) return result;
       scenec_detail::fill_subtree_bounds(batches, triangles, vertices, &bsp);
       result.report.bsp_seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - bsp_start).count();
@@ -304,19 +415,17 @@ CompileResult compile_mesh(const SceneMesh& mesh, const CompileOptions& options)
     info.bsp_depth = bsp.depth;
 
     // ---- write ---------------------------------------------------------------------------------------
-    BlobWriter writer;
-    writer.add(SectionType::Info, std::vector<SceneInfo>{info});
-    writer.add(SectionType::Materials, materials);
-    writer.add(SectionType::Batches, batches);
-    writer.add(SectionType::Vertices, vertices);
-    writer.add(SectionType::Triangles, triangles);
-    writer.add(SectionType::Nodes, nodes);
-    if (!bsp.nodes.empty()) {
-      writer.add(SectionType::BspNodes, bsp.nodes);
-      writer.add(SectionType::BspPieces, bsp.pieces);
-    }
-    if (!textures.empty()) writer.add(SectionType::Textures, textures);
-    if (!writer.finish(&result.blob, &result.error)) return result;
+    SceneTables tables;
+    tables.info = info;
+    tables.materials = std::move(materials);
+    tables.batches = std::move(batches);
+    tables.vertices = std::move(vertices);
+    tables.triangles = std::move(triangles);
+    tables.nodes = std::move(nodes);
+    tables.bsp_nodes = std::move(bsp.nodes);
+    tables.bsp_pieces = std::move(bsp.pieces);
+    tables.textures = std::move(textures);
+    if (!pack_scene(tables, &result.blob, &result.error)) return result;
 
     // The reader is the judge: a blob it refuses is a compiler bug, reported rather than returned.
     Scene scene;
@@ -328,17 +437,18 @@ CompileResult compile_mesh(const SceneMesh& mesh, const CompileOptions& options)
     }
 
     CompileReport& r = result.report;
-    r.triangles = uint32_t(triangles.size());
-    r.vertices = uint32_t(vertices.size());
-    r.nodes = uint32_t(nodes.size());
-    r.materials = uint32_t(materials.size());
-    r.batches = uint32_t(batches.size());
-    r.textures = uint32_t(textures.size());
-    r.bsp_nodes = uint32_t(bsp.nodes.size());
-    r.bsp_pieces = uint32_t(bsp.pieces.size());
+    r.triangles = uint32_t(tables.triangles.size());
+    r.vertices = uint32_t(tables.vertices.size());
+    r.nodes = uint32_t(tables.nodes.size());
+    r.materials = uint32_t(tables.materials.size());
+    r.batches = uint32_t(tables.batches.size());
+    r.textures = uint32_t(tables.textures.size());
+    r.bsp_nodes = uint32_t(tables.bsp_nodes.size());
+    r.bsp_pieces = uint32_t(tables.bsp_pieces.size());
     r.bsp_depth = bsp.depth;
     r.bsp_split_vertices = bsp.split_vertices;
-    r.split_ratio = bsp.nodes.empty() ? 0.0 : double(bsp.pieces.size()) / double(triangles.size());
+    r.bsp_split_pieces = scene.bsp_split_count;
+    r.split_ratio = tables.bsp_nodes.empty() ? 0.0 : double(tables.bsp_pieces.size()) / double(tables.triangles.size());
     r.blob_bytes = result.blob.size;
 
     if (mesh.camera.valid) {

@@ -25,8 +25,15 @@ extern "C" const uint8_t fw_scene[], fw_scene_end[];
 
 namespace fw {
 
+// FW_CHECK_CRC (make firmware FW_CHECK_CRC=0 to turn it off): the CRC-32 over the whole blob at boot.
+// It reads every byte of the scene; the structural checks of read_scene run either way.
+#ifndef FW_CHECK_CRC
+#define FW_CHECK_CRC 1
+#endif
+
 inline bool load_scene(ml::Scene* scene) {
-  const ml::Status s = ml::read_scene(fw_scene, size_t(fw_scene_end - fw_scene), scene);
+  const ml::CrcCheck crc = FW_CHECK_CRC ? ml::CrcCheck::Check : ml::CrcCheck::Skip;
+  const ml::Status s = ml::read_scene(fw_scene, size_t(fw_scene_end - fw_scene), scene, crc);
   if (!s.ok()) {
     print("firmware: scene: ");
     print(s.message);
