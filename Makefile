@@ -94,6 +94,10 @@ $(BUILD)/san/maskline: $(BUILD)/san/obj/platform/host/main.o $(HOST_SOBJ) $(SCEN
 $(BUILD)/bench: $(call rel,$(BENCH_SRC)) $(HOST_OBJ) $(SCENEC_OBJ) $(BUILD)/libmaskline.a
 	$(CXX) $(OPT) -o $@ $^ $(HOST_LIBS)
 
+# side_by_side: joins PNG pictures for make demo (tools/picture)
+$(BUILD)/side_by_side: $(call rel,tools/picture/side_by_side.cpp) $(BUILD)/obj/platform/host/png_io.o
+	$(CXX) $(OPT) -o $@ $^ -lpng
+
 # sort_bench: instructions of the scanline renderer's active-list sorts (docs/scanline.md)
 $(BUILD)/sort_bench: $(call rel,tools/bench/sort/sort_bench.cpp)
 	$(CXX) $(OPT) -o $@ $^
@@ -230,6 +234,7 @@ tables: $(BUILD)/maskgen
 	$(BUILD)/maskgen --k $(MASK_K) --out tables
 
 demo: all
+	@$(MAKE) --no-print-directory $(BUILD)/side_by_side
 	@bash tools/demo.sh $(BUILD)
 
 bench: all
