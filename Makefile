@@ -91,7 +91,9 @@ $(BUILD)/san/maskline: $(BUILD)/san/obj/platform/host/main.o $(HOST_SOBJ) $(SCEN
 	$(CXX) $(SAN) -o $@ $^ $(HOST_LIBS)
 
 # benchmark driver (tools/bench): one frame under callgrind, plus the z-buffer baseline
-$(BUILD)/bench: $(call rel,$(BENCH_SRC)) $(HOST_OBJ) $(SCENEC_OBJ) $(BUILD)/libmaskline.a
+# (bench quality compares with the test oracle, a double-precision reference rasterizer)
+ORACLE_SRC := tests/oracle/oracle.cpp tests/oracle/scene_triangles.cpp
+$(BUILD)/bench: $(call rel,$(BENCH_SRC)) $(call rel,$(ORACLE_SRC)) $(HOST_OBJ) $(SCENEC_OBJ) $(BUILD)/libmaskline.a
 	$(CXX) $(OPT) -o $@ $^ $(HOST_LIBS)
 
 # side_by_side: joins PNG pictures for make demo (tools/picture)
