@@ -168,7 +168,8 @@ static_assert(sizeof(TextureRef) == 8, "TextureRef layout");
 // top row first (glTF v = 0), no padding; texture_bytes() gives the count.
 enum class TexelFormat : uint8_t {
   None = 0,      // no texels (the compiler could not or would not store the image): base colour
-  Rgb565 = 1,    // u16 little-endian per texel, r in the top 5 bits
+  Rgb565 = 1,    // u16 little-endian per texel, r in the top 5 bits; 8-bit channels by bit replication
+                 // (r8 = r5 << 3 | r5 >> 2, g8 = g6 << 2 | g6 >> 4)
   Palette8 = 2,  // palette_size RGB565 colours (u16 each), then one u8 index per texel
   Grey4 = 3,     // two texels per byte, the left one in the low nibble; grey = nibble * 17
 };

@@ -22,7 +22,16 @@ class BlobTextureSource : public TextureSource {
  public:
   BlobTextureSource() = default;
   explicit BlobTextureSource(const Scene& scene) : scene_(&scene) {}
-  bool read(uint32_t texture, uint8_t* dst, uint32_t bytes) override;
+  // Inline, with no out-of-line key function: src/ is built without RTTI and host code deriving from
+  // or holding these classes must be able to emit their type information itself.
+  bool read(uint32_t texture, uint8_t* dst, uint32_t bytes) override {
+    if (scene_ == nullptr || texture >= scene_->texture_texels_count) return false;
+    const TextureTexels& t = scene_->texture_texels[texture];
+    if (bytes != t.bytes) return false;  // read_scene keeps [offset, offset + bytes) inside Texels
+    const uint8_t* src = scene_->texels + t.offset;
+    for (uint32_t i = 0; i < bytes; ++i) dst[i] = src[i];
+    return true;
+  }
 
  private:
   const Scene* scene_ = nullptr;
