@@ -40,15 +40,21 @@ void make_texture_planes(const View& view, const Vec3i world[3], const int32_t u
     out->b[i] = y * kSubpixelOne;
     out->k[i] = x * (ox - cx) + y * (oy - cy) + z * fz;
   }
+  out->ey = -1;  // no sample evaluated yet (samples have y >= 0)
+  out->ex = 0;
 }
 
-void texture_uv(const TexturePlanes& p, int32_t x, int32_t y, int32_t uv[2]) {
+void texture_uv(TexturePlanes& p, int32_t x, int32_t y, int32_t uv[2]) {
+  const bool step = y == p.ey && x == p.ex + 1;
   int64_t e[3];
   uint64_t largest = 0;
   for (int i = 0; i < 3; ++i) {
-    e[i] = p.a[i] * x + p.b[i] * y + p.k[i];
+    p.e[i] = step ? p.e[i] + p.a[i] : p.a[i] * x + p.b[i] * y + p.k[i];
+    e[i] = p.e[i];
     largest |= magnitude(e[i]);
   }
+  p.ex = x;
+  p.ey = y;
   const int shift = max_of(0, bit_length(largest) - kWeightKeep);
   int64_t total = 0;
   for (int i = 0; i < 3; ++i) {

@@ -20,6 +20,10 @@ namespace ml {
 struct TexturePlanes {
   int64_t a[3], b[3], k[3];   // e_i(X, Y) = a_i X + b_i Y + k_i, |e_i| < 2^61 on the lattice
   int32_t uv[3][2];           // the triangle's TEXCOORD_0, Q16.16
+  // e_i at the last sample evaluated, (ex, ey): the sample to its right steps by a_i. Integer steps
+  // are exact, so stepping gives the values evaluating gives, whatever order samples come in.
+  int64_t e[3];
+  int32_t ex, ey;
 };
 
 // Sample (X, Y) of the lattice lies at subpixel ((256 X + ox) / den, (256 Y + oy) / den): den = 1,
@@ -27,8 +31,8 @@ struct TexturePlanes {
 void make_texture_planes(const View& view, const Vec3i world[3], const int32_t uv[3][2], int32_t den,
                          int32_t ox, int32_t oy, TexturePlanes* out);
 
-// Texture coordinates (Q16.16) at lattice sample (X, Y): sum uv_i e_i / sum e_i, floored.
-void texture_uv(const TexturePlanes& p, int32_t x, int32_t y, int32_t uv[2]);
+// Texture coordinates (Q16.16) at lattice sample (X, Y) >= 0: sum uv_i e_i / sum e_i, floored.
+void texture_uv(TexturePlanes& p, int32_t x, int32_t y, int32_t uv[2]);
 
 // The texture (index into the scene's textures) triangle `id` is drawn with, or kNone when its
 // material has no texels. Only valid on a Scene from read_scene.

@@ -152,7 +152,7 @@ void TexturePager::fallback(uint32_t t) {
   ++stats_->texture_fallbacks;
 }
 
-const uint8_t* TexturePager::get(uint32_t t) {
+const uint8_t* TexturePager::load(uint32_t t) {
   if (!slots_ || t >= count_) return nullptr;
   Slot& s = slots_[t];
   s.touch = ++clock_;

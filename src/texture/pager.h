@@ -42,7 +42,13 @@ class TexturePager {
 
   // The texture's bytes, reading them if needed; null for a fallback (the read failed or the texture
   // is larger than the pool; counted once per frame and texture).
-  const uint8_t* get(uint32_t t);
+  const uint8_t* get(uint32_t t) {
+    if (slots_ && t < count_ && slots_[t].state == kResident) {  // the common case, inline
+      slots_[t].touch = ++clock_;
+      return pool_ + slots_[t].offset;
+    }
+    return load(t);
+  }
 
   // Active triangles using t (the scanline renderer's yActiveList): used to choose evictions.
   void add_user(uint32_t t);
@@ -62,6 +68,7 @@ class TexturePager {
   };
   static constexpr uint8_t kAbsent = 0, kResident = 1, kFailed = 2;
 
+  const uint8_t* load(uint32_t t);
   bool find_room(uint32_t bytes, uint32_t* offset) const;
   bool evict_one(uint32_t keep);
   void release(uint32_t t);

@@ -15,6 +15,7 @@ Pixel sample_texture(const TextureTexels& texture, const uint8_t* bytes, const i
 
 // texel * colour / 255 per channel, rounded: lighting (or the base colour factor) modulates a texel.
 inline Pixel modulate_texel(Pixel texel, Pixel colour) {
+  if (colour == 0xFFFFFF) return texel;  // the same result, cheaper: unlit white materials
   uint32_t out = 0;
   for (int shift = 0; shift <= 16; shift += 8) {
     const uint32_t p = ((texel >> shift) & 0xFF) * ((colour >> shift) & 0xFF);  // <= 255 * 255

@@ -112,18 +112,20 @@ std::vector<std::string> split_lines(const std::string& text) {
 // Decodes an image (PNG, JPEG, ... through stb_image) to RGBA8, after checking its size in the header.
 // An image that cannot be decoded is left empty with a warning: its textures draw the material colour.
 bool decode_image(tinygltf::Image* image, const int index, std::string*, std::string* warn, int, int,
-                  const unsigned char* bytes, int size, void*) {
+                  const unsigned char* bytes, int size, void* user) {
+  uint64_t& budget = *static_cast<uint64_t*>(user);  // pixels the file's images may still decode to
   const std::string which = "image " + std::to_string(index);
   int w = 0, h = 0, comp = 0;
   if (size <= 0 || !stbi_info_from_memory(bytes, size, &w, &h, &comp)) {
     if (warn) *warn += which + ": not a decodable image, texture ignored\n";
     return true;
   }
-  if (w <= 0 || h <= 0 || uint64_t(w) * uint64_t(h) > kMaxImagePixels) {
+  if (w <= 0 || h <= 0 || uint64_t(w) * uint64_t(h) > budget) {
     if (warn) *warn += which + ": " + std::to_string(w) + "x" + std::to_string(h) + " is above the " +
-                       std::to_string(kMaxImagePixels) + "-pixel limit, texture ignored\n";
+                       std::to_string(kMaxImagePixels) + "-pixel limit of a file's images, texture ignored\n";
     return true;
   }
+  budget -= uint64_t(w) * uint64_t(h);
   unsigned char* pixels = stbi_load_from_memory(bytes, size, &w, &h, &comp, 4);
   if (!pixels) {
     if (warn) *warn += which + ": decoding failed (" + std::string(stbi_failure_reason()) + "), texture ignored\n";
@@ -838,7 +840,8 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
       return false;
     }
     tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(&decode_image, nullptr);
+    uint64_t image_budget = kMaxImagePixels;
+    loader.SetImageLoader(&decode_image, &image_budget);
     tinygltf::FsCallbacks fs{};
     fs.ExpandFilePath = &tinygltf::ExpandFilePath;
     fs.WriteWholeFile = &no_file_write;

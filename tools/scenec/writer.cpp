@@ -335,6 +335,7 @@ CompileResult compile_mesh(const SceneMesh& mesh, const CompileOptions& options)
     }
     if (!textures.empty()) writer.add(SectionType::Textures, textures);
     if (any_texels) {
+      while (texels.size() % 8) texels.push_back(0);  // the blob keeps ending on a multiple of 8
       writer.add(SectionType::TextureTexels, texture_texels);
       writer.add(SectionType::Texels, texels);
     }
