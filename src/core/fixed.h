@@ -51,6 +51,14 @@ constexpr int kViewLimitBits = 30;
 constexpr int32_t kGuardBandPixels = 1 << 13;
 constexpr int32_t kMaxScreenDim = 4096;     // widest/tallest render (in samples) the pipeline supports
 
+// Scanline renderer (docs/scanline.md): l x l samples per pixel, l <= kMaxSamplesPerAxis; sample
+// lattice indices up to kMaxScreenDim * (l - 1) fit int16 (edge boundaries) and uint16 (spans, rows).
+constexpr int kMaxSamplesPerAxis = 8;
+constexpr int32_t kMaxLatticeIndex = kMaxScreenDim * (kMaxSamplesPerAxis - 1);
+static_assert(kMaxLatticeIndex < (1 << 15) - 1, "lattice indices must fit int16 with one to spare");
+// ySortList references pack triangle id * 16 + back-facing * 8 + piece (< 8) into 32 bits.
+constexpr uint32_t kMaxScanlineTriangles = 1u << 28;
+
 constexpr int kDepthBits = 30;
 constexpr uint32_t kDepthNear = 1u << kDepthBits;
 
@@ -102,6 +110,10 @@ inline int64_t shift_round(int64_t v, int s) {
   const int64_t half = int64_t(1) << (s - 1);
   return v >= 0 ? (v + half) >> s : -((-v + half) >> s);
 }
+
+// floor(v / 2^s) for signed v, s in [0, 62]: an arithmetic shift (GCC and Clang shift negative values
+// arithmetically; the tests check it).
+inline int64_t floor_shift(int64_t v, int s) { return v >> s; }
 
 // v * 2^s for signed v (a left shift of a negative value is undefined in C++17). |v * 2^s| < 2^63.
 inline int64_t shift_left(int64_t v, int s) { return v * (int64_t(1) << s); }
@@ -177,6 +189,29 @@ inline uint64_t isqrt64(uint64_t v) {
 
 // Number of significant bits of v (0 for v == 0).
 inline int bit_length(uint64_t v) { return v ? 64 - __builtin_clzll(v) : 0; }
+
+// Exact floor(n / d) without a division per call, for a divisor used many times (a triangle's doubled
+// area in its Gouraud weights): one 32-bit reciprocal r = floor(2^44 / (d' + 1)) of d normalized to
+// d' in [2^19, 2^20) is made once (one 64-by-32-bit division); each quotient is a multiply, a shift and
+// at most two correction steps. Ranges: d in [1, 2^46], n < 2^17 d (quotients below 2^17; the
+// normalized n stays below 2^38, so n' r < 2^63). Property-tested against the native division.
+constexpr int kReciprocalBits = 44;
+constexpr int kReciprocalNormBits = 20;
+constexpr int kReciprocalDivisorBits = 46;
+// The normalizing shift of d (right when > 0, left when < 0).
+inline int reciprocal_shift(uint64_t d) { return bit_length(d) - kReciprocalNormBits; }
+inline uint64_t reciprocal_normalize(uint64_t v, int shift) { return shift >= 0 ? v >> shift : v << -shift; }
+inline uint32_t make_reciprocal(uint64_t d) {
+  const uint64_t dn = reciprocal_normalize(d, reciprocal_shift(d));
+  return uint32_t(udiv64(uint64_t(1) << kReciprocalBits, dn + 1));
+}
+inline uint32_t divide_by_reciprocal(uint64_t n, uint64_t d, uint32_t r) {
+  // q never exceeds floor(n / d): n' <= n / 2^s and r < 2^44 2^s / d. It falls short by at most 2.
+  uint64_t q = (reciprocal_normalize(n, reciprocal_shift(d)) * r) >> kReciprocalBits;
+  uint64_t rem = n - q * d;
+  while (rem >= d) { ++q; rem -= d; }
+  return uint32_t(q);
+}
 
 struct Vec3i {
   int32_t x, y, z;

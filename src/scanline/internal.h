@@ -12,6 +12,7 @@
 
 #include "core/fixed.h"
 #include "core/sink.h"
+#include "view/view.h"
 
 namespace ml {
 namespace scan {
@@ -36,7 +37,7 @@ static_assert(sizeof(YSortEntry) == 8, "YSortEntry layout");
 
 // yActiveList element: the piece's screen-space parameters (§4) and its span on the current row.
 enum : uint8_t {
-  kBiasMask = 7,        // bit i: edge i is not top-left (its c is one smaller, view.h)
+  kWeightsReady = 1,    // weight_recip is set
   kFront = 8,
   kColorsReady = 16,
   kSmooth = 32,
@@ -54,19 +55,44 @@ struct ActiveTri {
   uint16_t max_y;
   uint8_t flags;
   uint8_t perm;         // unclipped piece: original vertex of piece vertex j in bits 2j..2j+1; 0xFF clipped
+  uint16_t box_x0, box_x1;  // sample columns of the piece's bounding box, clipped to the screen
+  int16_t edge_x[3];    // edge i's boundary column on the last row stepped (step_span)
+  uint16_t pad;
+  uint32_t weight_recip;  // kWeightsReady: weight_reciprocal, for sample_weights
+  uint32_t pad2;
 };
-static_assert(sizeof(ActiveTri) == 80, "ActiveTri layout");
+static_assert(sizeof(ActiveTri) == 104, "ActiveTri layout");
 
 constexpr uint16_t kNoSpan = 0xFFFF;
 
+// The piece's bounding box on the sample lattice, clipped to the screen. False when it holds no sample.
+struct LatticeBox {
+  int32_t x0, x1, y0, y1;
+};
+bool lattice_box(const ScreenTriangle& t, const Lattice& lat, LatticeBox* b);
+
 // Span [min_x, max_x] of sample row Y for the piece: exactly the samples where all three edge
 // functions of src/view (top-left rule folded in) are >= 0, clamped to [0, nx). Returns false if empty.
+// The reference: one division per edge. The renderer steps spans with step_span instead.
 bool row_span(const ActiveTri& t, const Lattice& lat, int32_t y, int32_t* min_x, int32_t* max_x);
+
+// Starts span stepping for a piece whose box_x0/box_x1 are set (no division).
+void start_span(ActiveTri* t);
+
+// The same span as row_span, found from the previous row's edge boundaries (edge_x) by walking the
+// exact edge functions sample by sample: no division. Rows must be stepped in increasing order (any
+// gaps allowed); the walk costs the boundaries' movement, at most the box width per edge and row.
+bool step_span(ActiveTri* t, const Lattice& lat, int32_t y, int32_t* min_x, int32_t* max_x);
 
 // Depth plane of a piece (vertices vx/vy in ActiveTri, depths d[3]): sets z_row for row 0, gx, gy.
 void depth_plane(ActiveTri* t, const uint32_t depth[3], const Lattice& lat);
 
-// Barycentric weights (Q16, summing to 65536) of the piece's vertices at sample (X, Y).
+// The reciprocal sample_weights divides by (core/fixed.h make_reciprocal of the piece's area2 * den,
+// kept below 2^46): one per piece.
+uint32_t weight_reciprocal(const ActiveTri& t, const Lattice& lat);
+
+// Barycentric weights (Q16, summing to 65536) of the piece's vertices at a covered sample (X, Y):
+// round(E_j 2^16 / (area2 den)) exactly, by t.weight_recip (weight_reciprocal): no division.
 void sample_weights(const ActiveTri& t, const Lattice& lat, int32_t x, int32_t y, int32_t w[3]);
 
 

@@ -37,31 +37,50 @@ Lattice make_lattice(int width, int height, int aa) {
 
 // Lattice rows/columns whose sample coordinate lies in [lo, hi] subpixels (o = origin offset).
 static inline int64_t lattice_first(int64_t lo, const Lattice& lat, int32_t o) {
-  return -div_floor(-(lo * lat.den - o), kSubpixelOne);
+  return floor_shift(lo * lat.den - o + (kSubpixelOne - 1), kSubpixelBits);  // ceil((lo den - o) / 256)
 }
 static inline int64_t lattice_last(int64_t hi, const Lattice& lat, int32_t o) {
-  return div_floor(hi * lat.den - o, kSubpixelOne);
+  return floor_shift(hi * lat.den - o, kSubpixelBits);
+}
+
+bool lattice_box(const ScreenTriangle& t, const Lattice& lat, LatticeBox* b) {
+  const int32_t ax = t.v[0].x, bx = t.v[1].x, cx = t.v[2].x, ay = t.v[0].y, by = t.v[1].y, cy = t.v[2].y;
+  const int32_t x0 = min_of(ax, min_of(bx, cx)), x1 = max_of(ax, max_of(bx, cx));
+  const int32_t y0 = min_of(ay, min_of(by, cy)), y1 = max_of(ay, max_of(by, cy));
+  b->y0 = int32_t(max_of<int64_t>(0, lattice_first(y0, lat, lat.oy)));
+  b->y1 = int32_t(min_of<int64_t>(lat.ny - 1, lattice_last(y1, lat, lat.oy)));
+  if (b->y0 > b->y1) return false;
+  b->x0 = int32_t(max_of<int64_t>(0, lattice_first(x0, lat, lat.ox)));
+  b->x1 = int32_t(min_of<int64_t>(lat.nx - 1, lattice_last(x1, lat, lat.ox)));
+  return b->x0 <= b->x1;
+}
+
+// Edge i (v_i -> v_{i+1}) of the piece on sample row y, scaled by den: E*den = k X + r, exact in int64
+// (|E*den| < 2^50 inside the guard band). The edge function is view.h's, top-left rule included.
+struct LatticeEdge {
+  int64_t k, r;
+};
+static inline LatticeEdge lattice_row(const EdgeFunction& e, const Lattice& lat, int32_t y) {
+  // E(x, y) * den at x = (256 X + ox) / den, y = (256 Y + oy) / den.
+  return LatticeEdge{e.a * kSubpixelOne,
+                     e.b * (int64_t(y) * kSubpixelOne + lat.oy) + e.a * lat.ox + e.c * lat.den};
+}
+static inline LatticeEdge lattice_edge(const ActiveTri& t, const Lattice& lat, int i, int32_t y) {
+  const int j = i == 2 ? 0 : i + 1;
+  return lattice_row(edge_function(t.vx[i], t.vy[i], t.vx[j], t.vy[j]), lat, y);
 }
 
 bool row_span(const ActiveTri& t, const Lattice& lat, int32_t y, int32_t* min_x, int32_t* max_x) {
   int64_t lo = 0, hi = lat.nx - 1;
-  const int64_t v = int64_t(y) * kSubpixelOne + lat.oy;
   for (int i = 0; i < 3; ++i) {
-    const int j = i == 2 ? 0 : i + 1;
-    // Edge v_i -> v_j of src/view: E = a x + b y + c, a = Py - Qy, b = Qx - Px, c folded with the
-    // top-left rule. Scaled by den at lattice sample (X, Y): E*den = K X + R.
-    const int64_t a = int64_t(t.vy[i]) - t.vy[j];
-    const int64_t b = int64_t(t.vx[j]) - t.vx[i];
-    const int64_t bias = (t.flags >> i) & 1;
-    const int64_t r = b * (v - int64_t(t.vy[i]) * lat.den) + a * (lat.ox - int64_t(t.vx[i]) * lat.den) -
-                      bias * lat.den;
-    if (a > 0) {
-      const int64_t first = -div_floor(r, a * kSubpixelOne);  // K X >= -R
+    const LatticeEdge e = lattice_edge(t, lat, i, y);
+    if (e.k > 0) {
+      const int64_t first = -div_floor(e.r, e.k);  // k X >= -r
       if (first > lo) lo = first;
-    } else if (a < 0) {
-      const int64_t last = div_floor(r, -a * kSubpixelOne);
+    } else if (e.k < 0) {
+      const int64_t last = div_floor(e.r, -e.k);
       if (last < hi) hi = last;
-    } else if (r < 0) {
+    } else if (e.r < 0) {
       return false;
     }
     if (lo > hi) return false;
@@ -69,6 +88,55 @@ bool row_span(const ActiveTri& t, const Lattice& lat, int32_t y, int32_t* min_x,
   *min_x = int32_t(lo);
   *max_x = int32_t(hi);
   return true;
+}
+
+void start_span(ActiveTri* t) {
+  for (int i = 0; i < 3; ++i) {
+    const int j = i == 2 ? 0 : i + 1;
+    // A left edge (E grows with X) starts at the box's left side, a right edge at its right side.
+    t->edge_x[i] = int16_t(t->vy[i] > t->vy[j] ? t->box_x0 : t->box_x1);
+  }
+}
+
+bool step_span(ActiveTri* t, const Lattice& lat, int32_t y, int32_t* min_x, int32_t* max_x) {
+  const int32_t lo = t->box_x0, hi = t->box_x1;
+  int32_t left = lo, right = hi;
+  bool empty = false;
+  for (int i = 0; i < 3; ++i) {
+    const LatticeEdge e = lattice_edge(*t, lat, i, y);
+    int32_t x = t->edge_x[i];
+    int64_t v = e.k * x + e.r;  // E*den at column x
+    if (e.k > 0) {
+      // Left edge: the first column in [lo, hi + 1] from which E >= 0.
+      while (x > lo && v - e.k >= 0) { --x; v -= e.k; }
+      while (x <= hi && v < 0) { ++x; v += e.k; }
+      left = max_of(left, x);
+    } else if (e.k < 0) {
+      // Right edge: the last column in [lo - 1, hi] up to which E >= 0.
+      while (x < hi && v + e.k >= 0) { ++x; v += e.k; }
+      while (x >= lo && v < 0) { --x; v -= e.k; }
+      right = min_of(right, x);
+    } else if (e.r < 0) {
+      empty = true;  // horizontal edge with the row outside it
+    }
+    t->edge_x[i] = int16_t(x);
+  }
+  if (empty || left > right) return false;
+  *min_x = left;
+  *max_x = right;
+  return true;
+}
+
+static inline int64_t triangle_area2(const ActiveTri& t) {
+  return (int64_t(t.vx[1]) - t.vx[0]) * (int64_t(t.vy[2]) - t.vy[0]) -
+         (int64_t(t.vy[1]) - t.vy[0]) * (int64_t(t.vx[2]) - t.vx[0]);
+}
+
+// The weights' divisor for a sum of edge functions `total` > 0: total kept below 2^46 (so that a
+// numerator << 16 fits), at least 1.
+static inline uint64_t weight_divisor(uint64_t total) {
+  const int shift = max_of(0, bit_length(total) - kReciprocalDivisorBits);
+  return max_of<uint64_t>(1, total >> shift);
 }
 
 void depth_plane(ActiveTri* t, const uint32_t depth[3], const Lattice& lat) {
@@ -87,33 +155,38 @@ void depth_plane(ActiveTri* t, const uint32_t depth[3], const Lattice& lat) {
     cb[j] = b;
     cz[j] = a * (lat.ox - int64_t(t->vx[p]) * lat.den) + b * (lat.oy - int64_t(t->vy[p]) * lat.den);
   }
-  const int64_t area2 = (int64_t(t->vx[1]) - t->vx[0]) * (int64_t(t->vy[2]) - t->vy[0]) -
-                        (int64_t(t->vy[1]) - t->vy[0]) * (int64_t(t->vx[2]) - t->vx[0]);
-  const int64_t den = area2 * lat.den;
+  const int64_t den = triangle_area2(*t) * lat.den;
   t->z_row = mul_add3_div_round_low(d, cz, 16, den);
   t->gx = mul_add3_div_round_low(d, ca, 16 + kSubpixelBits, den);
   t->gy = mul_add3_div_round_low(d, cb, 16 + kSubpixelBits, den);
 }
 
+uint32_t weight_reciprocal(const ActiveTri& t, const Lattice& lat) {
+  return make_reciprocal(weight_divisor(triangle_area2(t) * lat.den));
+}
+
 void sample_weights(const ActiveTri& t, const Lattice& lat, int32_t x, int32_t y, int32_t w[3]) {
   const int64_t u = int64_t(x) * kSubpixelOne + lat.ox, v = int64_t(y) * kSubpixelOne + lat.oy;
-  int64_t e[3];
-  for (int j = 0; j < 3; ++j) {
+  int64_t e[3];  // e[j]: unbiased edge function opposite vertex j (edge j + 1), scaled by den
+  for (int j = 1; j < 3; ++j) {
     const int p = j == 2 ? 0 : j + 1;
     const int q = p == 2 ? 0 : p + 1;
     const int64_t a = int64_t(t.vy[p]) - t.vy[q];
     const int64_t b = int64_t(t.vx[q]) - t.vx[p];
     e[j] = a * (u - int64_t(t.vx[p]) * lat.den) + b * (v - int64_t(t.vy[p]) * lat.den);
-    if (e[j] < 0) e[j] = 0;  // a covered sample on a biased edge: weight 0
+    if (e[j] < 0) e[j] = 0;  // not at a covered sample; kept in range
   }
-  int64_t total = e[0] + e[1] + e[2];
-  if (total <= 0) { w[0] = kWeightOne; w[1] = w[2] = 0; return; }
-  // Keep numerators below 2^46 so that << 16 fits.
-  const int shift = max_of(0, bit_length(uint64_t(total)) - 46);
-  const int64_t t1 = (e[1] >> shift) << kWeightBits, t2 = (e[2] >> shift) << kWeightBits;
-  const int64_t den = max_of<int64_t>(1, total >> shift);
-  w[1] = int32_t(div_round(t1, den));
-  w[2] = int32_t(div_round(t2, den));
+  // At a covered sample the three are >= 0 and sum to area2 * den (the edge functions of a triangle
+  // add up to its doubled area everywhere): the divisor weight_reciprocal was made for. Numerators are
+  // kept below 2^46 so that << 16 fits; w = round(e 2^16 / total) (div_round of non-negatives).
+  const uint64_t total = uint64_t(triangle_area2(t) * lat.den);
+  const int shift = max_of(0, bit_length(total) - kReciprocalDivisorBits);
+  const uint64_t d = weight_divisor(total);
+  const uint64_t half = d / 2;
+  for (int j = 1; j < 3; ++j) {
+    const uint64_t ej = min_of(uint64_t(e[j]), total) >> shift;  // <= d: quotients <= 2^16
+    w[j] = int32_t(divide_by_reciprocal((ej << kWeightBits) + half, d, t.weight_recip));
+  }
   w[0] = kWeightOne - w[1] - w[2];
 }
 
@@ -139,7 +212,6 @@ void interpolate_uv(const int32_t uv[3][2], const int32_t w[3], int32_t out[2]) 
 
 namespace {
 
-constexpr uint32_t kMaxTriangles = 1u << 29;  // ref = id * 8 + piece
 constexpr Pixel kLineColor = 0xFFFFFF;
 constexpr int kShadeTolerance = 32;           // per channel, forces supersampled shading (§3.4.2)
 constexpr uint32_t kValid = 1u << 24;         // keep_rgb: holds a shaded colour
@@ -156,8 +228,8 @@ struct Setup {
 };
 
 Status make_setup(const Scene& scene, const Camera& camera, const RenderOptions& options, Setup* s) {
-  if (options.aa < 1 || options.aa > 8) return error(StatusCode::InvalidArgument, "aa must be 1..8");
-  if (scene.triangle_count >= kMaxTriangles) return error(StatusCode::Unsupported, "too many triangles");
+  if (options.aa < 1 || options.aa > kMaxSamplesPerAxis) return error(StatusCode::InvalidArgument, "aa must be 1..8");
+  if (scene.triangle_count >= kMaxScanlineTriangles) return error(StatusCode::Unsupported, "too many triangles");
   Status st = make_view(camera, &s->view);
   if (!st.ok()) return st;
   st = BandOutput::check(options.output);
@@ -181,6 +253,31 @@ inline bool cut_out(const Material& m) {
   return m.alpha_mode == uint8_t(AlphaMode::Mask) && m.base_color[3] < m.alpha_cutoff;
 }
 
+// False when the piece certainly covers no sample of its box: boxes of a few samples are tested
+// exactly (the edge functions of step_span), so slivers between samples never enter the ySortList.
+constexpr int32_t kSmallBoxSamples = 4;
+bool may_cover(const ScreenTriangle& t, const Lattice& lat, const LatticeBox& b) {
+  if ((b.x1 - b.x0 + 1) * (b.y1 - b.y0 + 1) > kSmallBoxSamples) return true;
+  EdgeFunction f[3];
+  for (int i = 0; i < 3; ++i) {
+    const int j = i == 2 ? 0 : i + 1;
+    f[i] = edge_function(t.v[i].x, t.v[i].y, t.v[j].x, t.v[j].y);
+  }
+  for (int32_t y = b.y0; y <= b.y1; ++y) {
+    LatticeEdge r[3];
+    for (int i = 0; i < 3; ++i) r[i] = lattice_row(f[i], lat, y);
+    for (int32_t x = b.x0; x <= b.x1; ++x)
+      if (r[0].k * x + r[0].r >= 0 && r[1].k * x + r[1].r >= 0 && r[2].k * x + r[2].r >= 0) return true;
+  }
+  return false;
+}
+
+// ySortList reference: triangle id, whether it faces away (so activation need not test it again) and
+// the piece index from project_triangle.
+inline uint32_t make_ref(uint32_t id, int facing, int piece) {
+  return (id << 4) | (facing < 0 ? 8u : 0u) | uint32_t(piece);
+}
+
 // Calls f(ref, min_y, max_y) for every piece that can cover a sample; returns the triangles that
 // gave none (culled: back-facing, cut out, behind the eye, off screen, degenerate).
 template <typename F>
@@ -199,18 +296,9 @@ uint32_t for_each_piece(const Scene& scene, const Setup& s, F f) {
     const int count = project_triangle(s.view, world, facing, pieces);
     bool any = false;
     for (int k = 0; k < count; ++k) {
-      const ScreenTriangle& t = pieces[k];
-      int32_t x0 = t.v[0].x, x1 = x0, y0 = t.v[0].y, y1 = y0;
-      for (int j = 1; j < 3; ++j) {
-        x0 = min_of(x0, t.v[j].x); x1 = max_of(x1, t.v[j].x);
-        y0 = min_of(y0, t.v[j].y); y1 = max_of(y1, t.v[j].y);
-      }
-      const int64_t fx = max_of<int64_t>(0, lattice_first(x0, lat, lat.ox));
-      const int64_t lx = min_of<int64_t>(lat.nx - 1, lattice_last(x1, lat, lat.ox));
-      const int64_t fy = max_of<int64_t>(0, lattice_first(y0, lat, lat.oy));
-      const int64_t ly = min_of<int64_t>(lat.ny - 1, lattice_last(y1, lat, lat.oy));
-      if (fx > lx || fy > ly) continue;
-      f(id * 8 + uint32_t(k), uint16_t(fy), uint16_t(ly));
+      LatticeBox b;
+      if (!lattice_box(pieces[k], lat, &b) || !may_cover(pieces[k], lat, b)) continue;
+      f(make_ref(id, facing, k), uint16_t(b.y0), uint16_t(b.y1));
       any = true;
     }
     if (!any) ++culled;
@@ -219,6 +307,10 @@ uint32_t for_each_piece(const Scene& scene, const Setup& s, F f) {
 }
 
 inline size_t round8(size_t v) { return (v + 7) & ~size_t(7); }
+
+// m_max takes a temporary: a histogram of 4 B a sample row (no sort) or, when that would be larger, a
+// sorted copy of max_y (2 B a piece).
+inline bool m_by_rows(uint32_t n, const Lattice& lat) { return (size_t(lat.ny) + 1) * 4 <= size_t(n) * 2; }
 
 struct Sizes {
   size_t ysort, drawn, temp, yactive, ord, xactive, keep, acc, band;
@@ -232,7 +324,7 @@ Sizes sizes_for(const Scene& scene, const Setup& s, uint32_t n, uint32_t m) {
   Sizes z;
   z.ysort = round8(size_t(n) * sizeof(YSortEntry));
   z.drawn = round8(((size_t(scene.triangle_count) + 31) / 32) * 4);
-  z.temp = round8(size_t(n) * 2);
+  z.temp = round8(m_by_rows(n, s.lat) ? (size_t(s.lat.ny) + 1) * 4 : size_t(n) * 2);
   z.yactive = round8(size_t(m) * sizeof(ActiveTri));
   z.ord = round8(size_t(m) * 4);
   z.xactive = round8(size_t(m) * 4);
@@ -273,6 +365,21 @@ void count_n_m(const Scene& scene, const Setup& s, uint32_t* n_out, uint32_t* m_
 
 // m_max from the ySortList sorted by min_y and its max_y values sorted (temp): at each activation,
 // active = activated so far - finished before this row.
+// m_max from a histogram of the rows: +1 where a piece starts, -1 after it ends; rows[ny + 1].
+uint32_t m_from_rows(const YSortEntry* ys, uint32_t n, int32_t ny, int32_t* rows) {
+  for (int32_t y = 0; y <= ny; ++y) rows[y] = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    ++rows[ys[i].min_y];
+    --rows[ys[i].max_y + 1];
+  }
+  int32_t run = 0, m = 0;
+  for (int32_t y = 0; y < ny; ++y) {
+    run += rows[y];
+    m = max_of(m, run);
+  }
+  return uint32_t(m);
+}
+
 uint32_t m_from_sorted(const YSortEntry* ys, uint16_t* max_ys, uint32_t n, uint64_t* work) {
   quick_sort(max_ys, n, [](uint16_t v) { return v; }, work);
   uint32_t m = 0, j = 0;
@@ -320,17 +427,21 @@ struct Renderer {
 
   // per sample row (l > 1)
   int32_t cur_px = 0;
+  int32_t cur_right = 0;  // cur_px's right border sample
+  Pixel last_colour = 0;  // emit_sample: pack(last_colour)
+  uint64_t last_packed = 0;
   uint64_t cur_sum = 0;
   int32_t row_kind = 0;  // 0 interior, 1 top of frame, 2 shared border, 3 bottom of frame
 
   // --- activation (§3.1, §4.1) ---
   void activate(const YSortEntry& e, int32_t y) {
-    const uint32_t id = e.ref >> 3;
+    const uint32_t id = e.ref >> 4;
     const int k = int(e.ref & 7);
     Vec3i world[3];
     triangle_world(*scene, id, world);
     ScreenTriangle pieces[kMaxClipTriangles];
-    project_triangle(s.view, world, pieces);  // deterministic: same pieces as the ySortList pass
+    // Deterministic: the same pieces as the ySortList pass, which also found the facing.
+    project_triangle(s.view, world, (e.ref & 8) ? -1 : 1, pieces);
     const ScreenTriangle& t = pieces[k];
     uint32_t slot;
     if (free_head != 0xFFFFFFFFu) { slot = free_head; free_head = act[slot].id; }
@@ -340,11 +451,6 @@ struct Renderer {
     for (int i = 0; i < 3; ++i) {
       a.vx[i] = t.v[i].x;
       a.vy[i] = t.v[i].y;
-    }
-    for (int i = 0; i < 3; ++i) {
-      const int j = i == 2 ? 0 : i + 1;
-      const int64_t ea = int64_t(a.vy[i]) - a.vy[j], eb = int64_t(a.vx[j]) - a.vx[i];
-      if (!is_top_left(ea, eb)) flags |= uint8_t(1 << i);
     }
     if (t.front_facing) flags |= kFront;
     if (tex_of) {
@@ -360,6 +466,11 @@ struct Renderer {
     a.max_y = e.max_y;
     a.min_x = kNoSpan;
     a.max_x = 0;
+    LatticeBox box;
+    lattice_box(t, s.lat, &box);
+    a.box_x0 = uint16_t(box.x0);
+    a.box_x1 = uint16_t(box.x1);
+    start_span(&a);
     // Unclipped pieces keep the original vertices (possibly reordered): colours can wait until the
     // first shading call. Clipped pieces blend vertex colours by their weights now.
     uint8_t perm = 0;
@@ -401,6 +512,10 @@ struct Renderer {
     ensure_colors(a);
     Pixel c = a.color[0];
     if (a.flags & kSmooth) {
+      if (!(a.flags & kWeightsReady)) {
+        a.weight_recip = weight_reciprocal(a, s.lat);  // one reciprocal a piece, no division a sample
+        a.flags |= kWeightsReady;
+      }
       int32_t w[3];
       sample_weights(a, s.lat, x, y, w);
       c = blend_colors(a.color, w);
@@ -462,6 +577,17 @@ struct Renderer {
       default: keep_surface[px] = finish(acc[px] + sum); break;
     }
   }
+  // commit(px, sum) for px in [px0, px1), the row kind decided once.
+  void commit_same(int32_t px0, int32_t px1, uint64_t sum) {
+    switch (row_kind) {
+      case 0: for (int32_t px = px0; px < px1; ++px) acc[px] += sum; break;
+      case 1: for (int32_t px = px0; px < px1; ++px) acc[px] = sum; break;
+      case 2:
+        for (int32_t px = px0; px < px1; ++px) { keep_surface[px] = finish(acc[px] + sum); acc[px] = sum; }
+        break;
+      default: for (int32_t px = px0; px < px1; ++px) keep_surface[px] = finish(acc[px] + sum); break;
+    }
+  }
   // Samples [x0, x1] of the current row all have colour c (x0 is the next sample in order).
   void emit_run(int32_t x0, int32_t x1, Pixel c) {
     if (!s.accumulate) {
@@ -471,23 +597,51 @@ struct Renderer {
     const uint64_t pc = pack(c);
     const int32_t q = s.lat.q;
     while (x0 <= x1 && cur_px < s.width) {
-      const int32_t right = (cur_px + 1) * q;  // right border sample of cur_px
-      if (x1 < right) { cur_sum += pc * uint64_t(x1 - x0 + 1); return; }
-      cur_sum += pc * uint64_t(right - x0 + 1);
+      if (x1 < cur_right) { cur_sum += pc * uint64_t(x1 - x0 + 1); return; }
+      cur_sum += pc * uint64_t(cur_right - x0 + 1);
       commit(cur_px, cur_sum);
-      ++cur_px;
       cur_sum = pc;  // the border sample is also the next pixel's left sample
-      x0 = right + 1;
+      x0 = cur_right + 1;
+      next_pixel();
+      // Pixels the run covers whole get the same sum: committed in one loop.
+      const int32_t whole = min_of((x1 - x0 + 1) / q, s.width - cur_px);
+      if (whole > 0) {
+        commit_same(cur_px, cur_px + whole, pc * uint64_t(q + 1));
+        cur_px += whole - 1;
+        cur_right += (whole - 1) * q;
+        x0 = cur_right + 1;
+        next_pixel();
+      }
     }
   }
+  // One covered sample x, the next in order (l > 1).
+  void emit_sample(int32_t x, Pixel c) {
+    if (c != last_colour) { last_colour = c; last_packed = pack(c); }  // runs of one colour are common
+    const uint64_t pc = last_packed;
+    cur_sum += pc;
+    if (x < cur_right) return;
+    commit(cur_px, cur_sum);  // x is cur_px's right border, shared with the next pixel
+    cur_sum = pc;
+    next_pixel();
+  }
+  // Pixel column keepObj uses for sample x (x / q, the last column for the right border): x is the
+  // sample about to be emitted, so it lies in cur_px or on its right border.
+  int32_t pixel_of(int32_t x) const { return x == cur_right && cur_px + 1 < s.width ? cur_px + 1 : cur_px; }
+  void next_pixel() {
+    ++cur_px;
+    cur_right += s.lat.q;
+  }
 
-  static int channel_diff(uint32_t a, uint32_t b) {
-    int d = 0;
-    for (int sft = 0; sft <= 16; sft += 8) {
-      const int x = int((a >> sft) & 0xFF) - int((b >> sft) & 0xFF);
-      d = max_of(d, x < 0 ? -x : x);
-    }
-    return d;
+  // Whether any channel of a and b differs by more than kShadeTolerance (§3.4.2).
+  static bool differs(uint32_t a, uint32_t b) {
+    if (((a ^ b) & 0xFFFFFF) == 0) return false;  // the common case: the same colour
+    constexpr uint32_t t = kShadeTolerance;
+    const int32_t dr = int32_t((a >> 16) & 0xFF) - int32_t((b >> 16) & 0xFF);
+    const int32_t dg = int32_t((a >> 8) & 0xFF) - int32_t((b >> 8) & 0xFF);
+    const int32_t db = int32_t(a & 0xFF) - int32_t(b & 0xFF);
+    // |d| > t exactly when d + t, as unsigned, exceeds 2t.
+    return (uint32_t(dr + int32_t(t)) > 2 * t) | (uint32_t(dg + int32_t(t)) > 2 * t) |
+           (uint32_t(db + int32_t(t)) > 2 * t);
   }
 
   // Colour of one covered sample (§3, §3.4). k entries in xact; their z_run are already one step ahead.
@@ -496,7 +650,7 @@ struct Renderer {
     if (front.flags & kBlend) return composite(x, y, k);
     mark_drawn(front);
     if (s.lat.l == 1) return shade(front, x, y);
-    const int32_t c = min_of(x / s.lat.q, s.width - 1);
+    const int32_t c = pixel_of(x);
     const uint32_t key = surface_key(front);
     uint32_t& kr = keep_rgb[c];
     // Textured surfaces are shaded at every sample: the l x l samples filter the texels (§5).
@@ -504,10 +658,9 @@ struct Renderer {
     if (!need) need = rng.next() < p_threshold;  // adaptive-stochastic shading (§3.4.2)
     if (!need) return kr & 0xFFFFFF;
     const Pixel col = shade(front, x, y);
-    bool differ = (kr & kValid) && channel_diff(kr, col) > kShadeTolerance;
-    if (c > 0 && (keep_rgb[c - 1] & kValid) && channel_diff(keep_rgb[c - 1], col) > kShadeTolerance) differ = true;
-    if (c + 1 < s.width && (keep_rgb[c + 1] & kValid) && channel_diff(keep_rgb[c + 1], col) > kShadeTolerance)
-      differ = true;
+    bool differ = (kr & kValid) && differs(kr, col);
+    if (c > 0 && (keep_rgb[c - 1] & kValid) && differs(keep_rgb[c - 1], col)) differ = true;
+    if (c + 1 < s.width && (keep_rgb[c + 1] & kValid) && differs(keep_rgb[c + 1], col)) differ = true;
     uint32_t force = kr & kForce;
     if (differ) {
       force = kForce;
@@ -552,7 +705,7 @@ struct Renderer {
       ch[c] = uint32_t(min_of<int64_t>(255, (total + (int64_t(255) << 23)) / (int64_t(255) << 24)));
     }
     if (s.lat.l > 1) {
-      const int32_t c = min_of(x / s.lat.q, s.width - 1);
+      const int32_t c = pixel_of(x);
       keep_surface[c] = 0xFFFFFFFFu;  // never reused: the stack of surfaces may change
       keep_rgb[c] = rgb(ch[0], ch[1], ch[2]) | kValid | (keep_rgb[c] & kForce);
     }
@@ -562,6 +715,7 @@ struct Renderer {
   // --- one sample row -------------------------------------------------------------------------------
   void start_row(int32_t y) {
     cur_px = 0;
+    cur_right = s.lat.q;
     cur_sum = 0;
     if (!s.accumulate) return;
     const int32_t q = s.lat.q;
@@ -585,9 +739,10 @@ struct Renderer {
     uint32_t k = 0, i = 0;
     int32_t x = 0;
     uint32_t left_id = 0;  // Lines: visible id of the previous sample
+    // Where the next span in order starts (pieces without a span sort last, at kNoSpan >= nx).
+    int32_t next = i < live ? int32_t(act[ord[i]].min_x) : lat.nx;
     while (x < lat.nx) {
       if (k == 0) {
-        const int32_t next = (i < live) ? int32_t(act[ord[i]].min_x) : lat.nx;
         const int32_t stop = min_of(next, lat.nx);
         if (stop > x) {
           if (mode == ShadingMode::Lines) {
@@ -600,11 +755,12 @@ struct Renderer {
           if (x >= lat.nx) break;
         }
       }
-      while (i < live && act[ord[i]].min_x == x) {
+      while (next == x) {
         ActiveTri& a = act[ord[i]];
         a.z_run = a.z_row + a.gx * uint64_t(int64_t(x));
         xact[k++] = ord[i];
         ++i;
+        next = i < live ? int32_t(act[ord[i]].min_x) : lat.nx;
       }
       // Nearest surface; drop finished spans; step z (§4.2: z_{i+1} = z_i + dz).
       int32_t best = -1;
@@ -633,7 +789,7 @@ struct Renderer {
         left_id = best_id + 1;
       } else {
         const Pixel c = resolve_colour(x, y, k, uint32_t(best));
-        if (s.accumulate) emit_run(x, x, c);
+        if (s.accumulate) emit_sample(x, c);
         else keep_surface[x] = c;
       }
       ++x;
@@ -650,6 +806,33 @@ struct Renderer {
       keep_surface[x] = id;
       left_id = id;
     }
+  }
+
+  // Steps every active span to row y and orders the pieces by span start (§3.3). The previous row's
+  // order is kept: pieces that had a span and still have one are nearly sorted already; pieces whose
+  // span starts on this row (new or no span before) are sorted on their own and merged in; pieces
+  // with no span on this row go last, in any order (the sweep never reaches them).
+  void order_row(int32_t y) {
+    auto key = [this](uint32_t slot) { return act[slot].min_x; };
+    uint32_t kept = 0, fresh = 0, none = 0;
+    for (uint32_t r = 0; r < live; ++r) {
+      const uint32_t slot = ord[r];
+      ActiveTri& a = act[slot];
+      const bool had = a.min_x != kNoSpan;
+      int32_t x0, x1;
+      if (!step_span(&a, s.lat, y, &x0, &x1)) {
+        a.min_x = kNoSpan;
+        a.max_x = 0;
+        xact[live - 1 - none++] = slot;
+        continue;
+      }
+      a.min_x = uint16_t(x0);
+      a.max_x = uint16_t(x1);
+      if (had) ord[kept++] = slot;  // r >= kept: in place, order kept
+      else xact[fresh++] = slot;
+    }
+    sort_kept_and_fresh(ord, kept, xact, fresh, key, &stats->sort_instructions);
+    for (uint32_t i = 0; i < none; ++i) ord[kept + fresh + i] = xact[live - none + i];
   }
 
   Status run() {
@@ -682,14 +865,7 @@ struct Renderer {
         if (opt->shading == ShadingMode::Lines) lines_run(0, lat.nx - 1, y, 0);
         else emit_run(0, lat.nx - 1, bg);
       } else {
-        for (uint32_t r = 0; r < live; ++r) {
-          ActiveTri& a = act[ord[r]];
-          int32_t x0, x1;
-          if (row_span(a, lat, y, &x0, &x1)) { a.min_x = uint16_t(x0); a.max_x = uint16_t(x1); }
-          else { a.min_x = kNoSpan; a.max_x = 0; }
-        }
-        // §3.3: the order from the previous row is kept, so insertion sort is often near-linear.
-        active_sort(ord, live, [this](uint32_t slot) { return act[slot].min_x; }, &stats->sort_instructions);
+        order_row(y);
         sweep(y);
       }
       pager.rows_done(uint32_t(y));  // frees the textures whose last row this was
@@ -776,7 +952,7 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
   stats->triangles_culled = for_each_piece(scene, s, [&](uint32_t ref, uint16_t y0, uint16_t y1) {
     if (n < cap) ys_space[n] = YSortEntry{ref, y0, y1};
     ++n;
-    if (r.pager.active()) r.pager.plan(triangle_texture(scene, ref >> 3), y1);  // §5: last row of use
+    if (r.pager.active()) r.pager.plan(triangle_texture(scene, ref >> 4), y1);  // §5: last row; ref: make_ref
   });
   r.pager.finish_plan();
   Sizes z = sizes_for(scene, s, n, 0);
@@ -787,12 +963,16 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
   // §3.3: sort ySortList on min_y (top row first: our y grows downwards).
   quick_sort(ys, n, [](const YSortEntry& e) { return e.min_y; }, &stats->sort_instructions);
   const size_t mark = arena.used();
-  uint16_t* temp = static_cast<uint16_t*>(arena.allocate(z.temp, 8));
-  for (uint32_t i = 0; i < n; ++i) temp[i] = ys[i].max_y;
+  void* temp = arena.allocate(z.temp, 8);
   note();
-  uint64_t scratch_work = 0;
-  const uint32_t m = m_from_sorted(ys, temp, n, &scratch_work);
-  stats->sort_instructions += scratch_work;
+  uint32_t m;
+  if (m_by_rows(n, s.lat)) {
+    m = m_from_rows(ys, n, s.lat.ny, static_cast<int32_t*>(temp));
+  } else {
+    uint16_t* max_ys = static_cast<uint16_t*>(temp);
+    for (uint32_t i = 0; i < n; ++i) max_ys[i] = ys[i].max_y;
+    m = m_from_sorted(ys, max_ys, n, &stats->sort_instructions);
+  }
   arena.release_to(mark);
   z = sizes_for(scene, s, n, m);
   if (arena.size() - start < z.need()) { arena.release_to(start); return error(StatusCode::ArenaTooSmall,

@@ -115,13 +115,54 @@ void heap_sort(T* a, uint32_t n, KeyFn key, uint64_t* work) {
   *work += w;
 }
 
-// The yActiveList sort: insertion sort for short lists, heap sort otherwise. (Insertion sort with a
-// move budget before falling back to heap sort was tried and measured slower: newly activated
-// pieces are appended, so the kept order of the previous row is rarely nearly right.)
+// The yActiveList sort: insertion sort for short lists, heap sort otherwise.
 template <typename T, typename KeyFn>
 void active_sort(T* a, uint32_t n, KeyFn key, uint64_t* work, uint32_t insertion_max = kActiveInsertionMax) {
   if (n <= insertion_max) insertion_sort(a, n, key, work);
   else heap_sort(a, n, key, work);
+}
+
+// Insertion sort that gives up after `budget` comparisons + moves (a[] is then still a permutation,
+// partly sorted). Returns whether it finished.
+template <typename T, typename KeyFn>
+bool insertion_sort_within(T* a, uint32_t n, KeyFn key, uint64_t budget, uint64_t* work) {
+  uint64_t w = 0;
+  for (uint32_t i = 1; i < n; ++i) {
+    const T v = a[i];
+    const auto k = key(v);
+    uint32_t j = i;
+    while (j > 0) {
+      ++w;
+      if (!(k < key(a[j - 1]))) break;
+      a[j] = a[j - 1];
+      ++w;
+      --j;
+    }
+    if (j != i) { a[j] = v; w += 2; }
+    if (w > budget) { *work += w; return false; }
+  }
+  *work += w;
+  return true;
+}
+
+// Moves per element the kept order may cost by insertion before heap sort takes over (measured on
+// 2CylinderEngine and the tessellated model, docs/scanline.md).
+constexpr uint32_t kKeptMovesPerEntry = 8;
+
+// Sorts kept[0, nk) (the previous row's order with keys moved a little: insertion sort, heap sort if
+// that gets expensive) and fresh[0, nf) (active_sort), then merges fresh into kept from the back:
+// kept[0, nk + nf) holds the result (kept needs room for nk + nf entries).
+template <typename T, typename KeyFn>
+void sort_kept_and_fresh(T* kept, uint32_t nk, T* fresh, uint32_t nf, KeyFn key, uint64_t* work) {
+  if (!insertion_sort_within(kept, nk, key, uint64_t(kKeptMovesPerEntry) * nk, work)) heap_sort(kept, nk, key, work);
+  if (nf <= kActiveInsertionMax) insertion_sort(fresh, nf, key, work);
+  else quick_sort(fresh, nf, key, work);  // random keys: fewer steps than heap sort
+  uint32_t i = nk, j = nf, o = nk + nf;
+  while (j > 0) {
+    if (i > 0 && key(fresh[j - 1]) < key(kept[i - 1])) kept[--o] = kept[--i];
+    else kept[--o] = fresh[--j];
+  }
+  *work += 2 * uint64_t(nf);
 }
 
 }  // namespace scan

@@ -50,6 +50,90 @@ bool emit_mask(uint64_t m, int x0, int y0, int q, CoverageWriter& writer) {
   return true;
 }
 
+// A small polygon's coverage, row by row (HierTiler::tile_small). For one edge crossing the box,
+// the samples of box row j inside it are the columns col with E_j + A col >= 0, E_j = E_0 + B j
+// (E at the row's first sample centre, A and B the steps between samples): from -floor(E_j / A) on
+// when A > 0, up to floor(E_j / -A) when A < 0. The floor is stepped exactly from row to row (a
+// DDA: two 32-bit divisions an edge, then adds), so each sample gets exactly E >= 0 at its centre,
+// the descent's coverage. Every value stays inside the box's corner values (< 2^30 by the caller).
+class EdgeRows {
+ public:
+  void start(int32_t e0, int32_t step_col, int32_t step_row) {
+    lower_ = step_col > 0;
+    d_ = step_col < 0 ? -step_col : step_col;
+    if (d_ == 0) {
+      e_ = e0;
+      step_e_ = step_row;
+      return;
+    }
+    split(e0, &q_, &r_);
+    split(step_row, &step_q_, &step_r_);
+  }
+  // Inside columns of the current row, as bits of a row of `all` columns.
+  uint32_t mask(uint32_t all) const {
+    if (d_ == 0) return e_ >= 0 ? all : 0;
+    if (lower_) {
+      const int32_t first = -q_;
+      return first <= 0 ? all : first >= 32 ? 0 : all & (~uint32_t(0) << first);
+    }
+    return q_ < 0 ? 0 : q_ >= 31 ? all : all & ((uint32_t(2) << q_) - 1);
+  }
+  void next_row() {
+    if (d_ == 0) {
+      e_ += step_e_;
+      return;
+    }
+    q_ += step_q_;
+    r_ += step_r_;
+    if (r_ >= d_) {
+      r_ -= d_;
+      ++q_;
+    }
+  }
+
+ private:
+  // n = q d + r with 0 <= r < d.
+  void split(int32_t n, int32_t* q, int32_t* r) const {
+    *q = n / d_;
+    *r = n % d_;
+    if (*r < 0) {
+      --*q;
+      *r += d_;
+    }
+  }
+  bool lower_ = false;
+  int32_t d_ = 0, q_ = 0, r_ = 0, step_q_ = 0, step_r_ = 0;
+  int32_t e_ = 0, step_e_ = 0;
+};
+
+// Boxes up to this many samples a side take the row-by-row path: they touch at most 3 x 3 finest
+// blocks, where a descent would triage at least two levels of masks.
+constexpr int kSmallBoxSamples = 16;
+constexpr int kSmallBoxBlocks = kSmallBoxSamples / 8 + 1;
+// Edge values a small box may hold: row sums stay below 2^31.
+constexpr int64_t kSmallEdgeLimit = int64_t(1) << 30;
+
+enum class SmallSetup : uint8_t { Ready, Outside, TooLarge };
+
+// The row steppers of the edges that cross the box [x0, x1] x [y0, y1] (samples of `pitch`
+// subpixels); edges with the whole box inside are dropped.
+SmallSetup small_edges(const ConvexPoly& poly, int32_t pitch, EdgeRows* rows, int* count) {
+  const int64_t half = pitch / 2;
+  const int64_t x0 = poly.min_x * int64_t(pitch) + half, y0 = poly.min_y * int64_t(pitch) + half;
+  const int64_t w = (poly.max_x - poly.min_x) * int64_t(pitch), h = (poly.max_y - poly.min_y) * int64_t(pitch);
+  *count = 0;
+  for (int i = 0; i < poly.n; ++i) {
+    const EdgeFunction& e = poly.edge[i];
+    const int64_t k0 = e.at(x0, y0), k1 = k0 + e.a * w, k2 = k0 + e.b * h, k3 = k1 + e.b * h;
+    const int64_t lo = min_of(min_of(k0, k1), min_of(k2, k3)), hi = max_of(max_of(k0, k1), max_of(k2, k3));
+    if (hi < 0) return SmallSetup::Outside;
+    if (lo >= 0) continue;
+    if (-lo >= kSmallEdgeLimit || hi >= kSmallEdgeLimit) return SmallSetup::TooLarge;
+    rows[(*count)++].start(int32_t(k0), int32_t(e.a * pitch), int32_t(e.b * pitch));
+  }
+  return SmallSetup::Ready;
+}
+
 }  // namespace
 
 void poly_from_setup(const TriangleSetup& setup, ConvexPoly* out) {
@@ -293,11 +377,82 @@ void HierTiler::propagate_up(int level, int mx, int my) {
   }
 }
 
+// Whether an ancestor of finest block (bx, by) is covered: its contents may then be stale.
+bool HierTiler::covered_above(int bx, int by) const {
+  const PyramidLayout& lay = pyr_->layout;
+  const int x = bx << 3, y = by << 3;
+  for (int l = 0; l < lay.finest(); ++l) {
+    const int s = lay.shift(l), sub = s - 3;
+    const uint64_t bit = uint64_t(1) << (((y >> sub) & 7) * 8 + ((x >> sub) & 7));
+    if (pyr_->mask(l, x >> s, y >> s).c & bit) return true;
+  }
+  return false;
+}
+
+// The hierarchy costs a small polygon more than it saves: its coverage comes row by row from the
+// edge functions (EdgeRows), is gathered into the finest blocks the box touches, and only samples
+// not yet covered there are written. False (nothing done) when the edges are too long for 32-bit
+// rows; then the caller descends.
+bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result) {
+  const int f = pyr_->layout.finest();
+  const int cx0 = poly.min_x >> 3, cy0 = poly.min_y >> 3;
+  const int nx = (poly.max_x >> 3) - cx0 + 1, ny = (poly.max_y >> 3) - cy0 + 1;
+  // Samples already covered in each touched block (all, when an ancestor is covered).
+  uint64_t done[kSmallBoxBlocks][kSmallBoxBlocks];
+  bool open = false;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      done[j][i] = covered_above(cx0 + i, cy0 + j) ? kAll : pyr_->block(cx0 + i, cy0 + j);
+      open = open || (box_bits(f, cx0 + i, cy0 + j) & ~done[j][i]) != 0;
+    }
+  *result = TileResult::Hidden;
+  if (!open) return true;
+  EdgeRows rows[kMaxPolyEdges];
+  int n = 0;
+  const SmallSetup setup = small_edges(poly, pitch_, rows, &n);
+  if (setup == SmallSetup::TooLarge) return false;
+  *result = TileResult::Tiled;
+  if (setup == SmallSetup::Outside) return true;
+  uint64_t cover[kSmallBoxBlocks][kSmallBoxBlocks] = {};
+  const uint32_t all = (uint32_t(2) << (poly.max_x - poly.min_x)) - 1;
+  for (int y = poly.min_y; y <= poly.max_y; ++y) {
+    uint32_t row = all;
+    for (int i = 0; i < n; ++i) {
+      row &= rows[i].mask(all);
+      rows[i].next_row();
+    }
+    const uint64_t placed = uint64_t(row) << (poly.min_x & 7);
+    const int j = (y >> 3) - cy0, shift = (y & 7) * 8;
+    for (int i = 0; i < nx; ++i) cover[j][i] |= ((placed >> (8 * i)) & 0xFF) << shift;
+  }
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      if (cover[j][i] == 0) continue;
+      const uint64_t w = cover[j][i] & ~done[j][i];
+      const int bx = cx0 + i, by = cy0 + j;
+      ++cells_visited;
+      if (work_) add_work(f, bx, by);
+      if (w == 0) continue;
+      pyr_->block(bx, by) |= w;
+      propagate_up(f, bx, by);
+      if (!emit_mask(w, bx << 3, by << 3, 1, writer)) {
+        *result = TileResult::Failed;
+        return true;
+      }
+    }
+  return true;
+}
+
 TileResult HierTiler::tile(const ConvexPoly& poly, CoverageWriter& writer) {
   bx0_ = poly.min_x;
   by0_ = poly.min_y;
   bx1_ = poly.max_x;
   by1_ = poly.max_y;
+  if (poly.min_x > poly.max_x || poly.min_y > poly.max_y) return TileResult::Hidden;
+  TileResult small;
+  if (poly.max_x - poly.min_x < kSmallBoxSamples && poly.max_y - poly.min_y < kSmallBoxSamples &&
+      tile_small(poly, writer, &small))
+    return small;
   int level, mx, my;
   if (!start_cell(poly, &level, &mx, &my)) return TileResult::Hidden;
   const int s = pyr_->layout.shift(level);

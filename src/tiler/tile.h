@@ -102,6 +102,8 @@ class HierTiler {
   bool poly_mask(int level, const Edges& in, Edges* crossing, uint64_t* pc, uint64_t* pv) const;
   uint64_t exact_samples(const Edges& edges, uint64_t todo) const;
   bool tile_cell(int level, int mx, int my, const Edges& in, CoverageWriter& writer);
+  bool tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result);
+  bool covered_above(int bx, int by) const;
   bool query_cell(int level, int mx, int my, const Edges& in) const;
   bool background_cell(int level, int mx, int my, CoverageWriter& writer);
   bool start_cell(const ConvexPoly& poly, int* level, int* mx, int* my) const;

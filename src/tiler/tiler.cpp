@@ -223,15 +223,17 @@ void clip_to_triangle(const View& view, const ScreenTriangle& part, const Triang
 // sample is skipped whole. Smaller subtrees are cheaper to walk than to test.
 constexpr uint32_t kCullMinPieces = 16;
 
-// The sample rectangle (inclusive, unclipped) that every sample any piece inside the node's box can
-// write lies in, or false when the box reaches the near plane (then the caller assumes visible).
-// Conservative by construction: the corners are transformed exactly (in units of 2^-26 view unit,
-// before the renderer's rounding), each corner's depth and offsets are widened by one view unit for
-// that rounding, x/z is bounded by the widened corners (a convex set in front of the eye projects
-// inside the hull of its corners' projections), and the rectangle grows by two samples: one for the
-// rounding of projection and sample centres, one for the pixel a split piece's box may grow by.
-bool box_screen_rect(const View& view, const BspNode& node, int32_t* x0, int32_t* y0, int32_t* x1,
-                     int32_t* y1) {
+// A node's box seen from the eye: its eight corners in view units, each transformed exactly (in
+// units of 2^-26 view unit, before the renderer's rounding) and widened by one view unit for that
+// rounding: floor - 1 .. floor + 2 covers every rounding of a point near the exact corner.
+struct ViewBox {
+  int64_t floor[8][3];  // x, y, z of each corner, rounded down to view units
+  int64_t lo(int c, int r) const { return floor[c][r] - 1; }
+  int64_t hi(int c, int r) const { return floor[c][r] + 2; }
+};
+
+// False when the box reaches the near plane (then nothing is known and the caller assumes visible).
+bool view_box(const View& view, const BspNode& node, ViewBox* out) {
   constexpr int shift = kUnitBits - kViewFractionBits;
   const Vec3i* rows[3] = {&view.right, &view.down, &view.forward};
   const int64_t d0[3] = {int64_t(node.bounds_min[0]) - view.eye.x, int64_t(node.bounds_min[1]) - view.eye.y,
@@ -247,35 +249,73 @@ bool box_screen_rect(const View& view, const BspNode& node, int32_t* x0, int32_t
     base[r] = m[0] * d0[0] + m[1] * d0[1] + m[2] * d0[2];
     for (int a = 0; a < 3; ++a) step[a][r] = m[a] * ext[a];
   }
-  int64_t sx0 = INT64_MAX, sy0 = INT64_MAX, sx1 = INT64_MIN, sy1 = INT64_MIN;
-  for (int c = 0; c < 8; ++c) {
-    int64_t v[3];
-    for (int r = 0; r < 3; ++r)
-      v[r] = base[r] + ((c & 1) ? step[0][r] : 0) + ((c & 2) ? step[1][r] : 0) + ((c & 4) ? step[2][r] : 0);
-    // View units, widened: floor - 1 .. floor + 2 covers every rounding of a point near v.
-    const int64_t z_lo = (v[2] >> shift) - 1, z_hi = (v[2] >> shift) + 2;
-    if (z_lo <= view.near) return false;
-    const int64_t x_lo = (v[0] >> shift) - 1, x_hi = (v[0] >> shift) + 2;
-    const int64_t y_lo = (v[1] >> shift) - 1, y_hi = (v[1] >> shift) + 2;
-    // Extremes of c / z over the widened cell: for c >= 0 the smallest depth gives the largest value.
-    const int64_t f = view.focal_q8;
-    sx0 = min_of(sx0, div_floor(f * x_lo, x_lo >= 0 ? z_hi : z_lo));
-    sx1 = max_of(sx1, div_floor(f * x_hi, x_hi >= 0 ? z_lo : z_hi) + 1);
-    sy0 = min_of(sy0, div_floor(f * y_lo, y_lo >= 0 ? z_hi : z_lo));
-    sy1 = max_of(sy1, div_floor(f * y_hi, y_hi >= 0 ? z_lo : z_hi) + 1);
+  for (int c = 0; c < 8; ++c)
+    for (int r = 0; r < 3; ++r) {
+      const int64_t v =
+          base[r] + ((c & 1) ? step[0][r] : 0) + ((c & 2) ? step[1][r] : 0) + ((c & 4) ? step[2][r] : 0);
+      out->floor[c][r] = v >> shift;
+      if (r == 2 && out->lo(c, 2) <= view.near) return false;
+    }
+  return true;
+}
+
+// Projected offsets from the screen centre (subpixels) of a widened corner: x/z over the widened cell
+// takes its extremes at the cell's corners; for a coordinate >= 0 the smallest depth gives the largest
+// value. The projection of a convex set in front of the eye lies inside the hull of its corners'.
+int64_t offset_low(int64_t focal, int64_t lo, int64_t z_lo, int64_t z_hi) {
+  return div_floor(focal * lo, lo >= 0 ? z_hi : z_lo);
+}
+int64_t offset_high(int64_t focal, int64_t hi, int64_t z_lo, int64_t z_hi) {
+  return div_floor(focal * hi, hi >= 0 ? z_lo : z_hi) + 1;
+}
+
+// A sample row (pixel) centre py * 256 + 128 inside [s0, s1] (subpixels from the screen top) has
+// floor(s0 / 256) <= py <= floor(s1 / 256); the rectangle grows by two samples more: one for the
+// rounding of projection and sample centres, one for the pixel a split piece's box may grow by.
+constexpr int kBoxMarginSamples = 2;
+
+// Whether every sample any piece inside the box can write lies in rows above `top` or at and below
+// `bottom` (exclusive end): the row bounds of box_screen_rect, compared by multiplication (no
+// division): floor(f y / z) + 1 < K - ... rewritten as f y < (K - 1) z for z > 0 (|f y| < 2^59,
+// |K z| < 2^55).
+bool box_outside_rows(const View& view, const ViewBox& box, int32_t top, int32_t bottom) {
+  const int64_t f = view.focal_q8;
+  // Above: max over corners of offset_high < (top - margin) * 256 - center_y.
+  const int64_t above = (int64_t(top) - kBoxMarginSamples) * kSubpixelOne - view.center_y - 1;
+  // Below: min over corners of offset_low >= (bottom + margin) * 256 - center_y.
+  const int64_t below = (int64_t(bottom) + kBoxMarginSamples) * kSubpixelOne - view.center_y;
+  bool is_above = true, is_below = true;
+  for (int c = 0; c < 8 && (is_above || is_below); ++c) {
+    const int64_t z_lo = box.lo(c, 2), z_hi = box.hi(c, 2);
+    const int64_t y_lo = box.lo(c, 1), y_hi = box.hi(c, 1);
+    is_above = is_above && f * y_hi < above * (y_hi >= 0 ? z_lo : z_hi);
+    is_below = is_below && f * y_lo >= below * (y_lo >= 0 ? z_hi : z_lo);
   }
-  // Subpixel offsets to samples: a sample (pixel) centre px * 256 + 128 inside [s0, s1] has
-  // floor(s0 / 256) <= px <= floor(s1 / 256); plus the two-sample margin. Clamped far outside the
-  // screen so the int32 results stay meaningful.
+  return is_above || is_below;
+}
+
+// The sample rectangle (inclusive, unclipped) that every sample any piece inside the box can write
+// lies in. Conservative by construction (see ViewBox, offset_low, kBoxMarginSamples).
+void box_screen_rect(const View& view, const ViewBox& box, int32_t* x0, int32_t* y0, int32_t* x1,
+                     int32_t* y1) {
+  int64_t sx0 = INT64_MAX, sy0 = INT64_MAX, sx1 = INT64_MIN, sy1 = INT64_MIN;
+  const int64_t f = view.focal_q8;
+  for (int c = 0; c < 8; ++c) {
+    const int64_t z_lo = box.lo(c, 2), z_hi = box.hi(c, 2);
+    sx0 = min_of(sx0, offset_low(f, box.lo(c, 0), z_lo, z_hi));
+    sx1 = max_of(sx1, offset_high(f, box.hi(c, 0), z_lo, z_hi));
+    sy0 = min_of(sy0, offset_low(f, box.lo(c, 1), z_lo, z_hi));
+    sy1 = max_of(sy1, offset_high(f, box.hi(c, 1), z_lo, z_hi));
+  }
+  // Clamped far outside the screen so the int32 results stay meaningful.
   const int64_t lim = int64_t(kMaxScreenDim) * 4;
   auto sample = [&](int64_t center, int64_t s, int64_t margin) {
     return int32_t(clamp_to<int64_t>(div_floor(center + s, kSubpixelOne) + margin, -lim, lim));
   };
-  *x0 = sample(view.center_x, sx0, -2);
-  *x1 = sample(view.center_x, sx1, 2);
-  *y0 = sample(view.center_y, sy0, -2);
-  *y1 = sample(view.center_y, sy1, 2);
-  return true;
+  *x0 = sample(view.center_x, sx0, -kBoxMarginSamples);
+  *x1 = sample(view.center_x, sx1, kBoxMarginSamples);
+  *y0 = sample(view.center_y, sy0, -kBoxMarginSamples);
+  *y1 = sample(view.center_y, sy1, kBoxMarginSamples);
 }
 
 // The rows of the screen one band covers: the pyramid holds only these, and polygons are moved into
@@ -297,8 +337,12 @@ struct BandRows {
 // (or the subtree has no pieces).
 bool subtree_hidden(const View& view, const BandRows& band, const BspNode& node, HierTiler& tiler) {
   if (node.subtree_pieces == 0) return true;
+  ViewBox vbox;
+  if (!view_box(view, node, &vbox)) return false;
+  // Most subtrees lie outside most bands: that is decided without a division.
+  if (box_outside_rows(view, vbox, band.top, band.top + band.rows)) return true;
   ConvexPoly box;
-  if (!box_screen_rect(view, node, &box.min_x, &box.min_y, &box.max_x, &box.max_y)) return false;
+  box_screen_rect(view, vbox, &box.min_x, &box.min_y, &box.max_x, &box.max_y);
   box.min_x = max_of(box.min_x, 0);
   box.max_x = min_of(box.max_x, view.width - 1);
   if (box.max_y < band.top || box.min_y >= band.top + band.rows) return true;

@@ -234,7 +234,8 @@ int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenT
   for (int i = 0; i < 3; ++i) {
     poly[i].p = Vec3i{view_coordinate(view, view.right, world[i]), view_coordinate(view, view.down, world[i]),
                       view_coordinate(view, view.forward, world[i])};
-    for (int k = 0; k < 3; ++k) poly[i].weight[k] = (i == k) ? kWeightOne : 0;
+    poly[i].weight[0] = poly[i].weight[1] = poly[i].weight[2] = 0;
+    poly[i].weight[i] = kWeightOne;
     in_front = in_front && poly[i].p.z >= view.near;
   }
 
@@ -307,11 +308,7 @@ void setup_triangle(const ScreenTriangle& tri, int width, int height, TriangleSe
   for (int i = 0; i < 3; ++i) {
     const ScreenVertex& p = tri.v[i];
     const ScreenVertex& q = tri.v[(i + 1) % 3];
-    EdgeFunction& e = out->edge[i];
-    e.a = int64_t(p.y) - q.y;
-    e.b = int64_t(q.x) - p.x;
-    e.c = -(e.a * p.x + e.b * p.y);
-    if (!is_top_left(e.a, e.b)) e.c -= 1;  // E == 0 on this edge is outside
+    out->edge[i] = edge_function(p.x, p.y, q.x, q.y);
     min_x = min_of(min_x, p.x); max_x = max_of(max_x, p.x);
     min_y = min_of(min_y, p.y); max_y = max_of(max_y, p.y);
   }

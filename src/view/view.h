@@ -108,6 +108,18 @@ struct EdgeFunction {
   int64_t at(int64_t x, int64_t y) const { return a * x + b * y + c; }
 };
 
+// The edge P -> Q (subpixels) as an edge function: a = P.y - Q.y, b = Q.x - P.x, c = -(a P.x + b P.y),
+// one smaller when the edge is not top-left (fill rule above). The one derivation every renderer uses.
+// |a|, |b| < 2^23 and |c| < 2^46 inside the guard band.
+inline EdgeFunction edge_function(int32_t px, int32_t py, int32_t qx, int32_t qy) {
+  EdgeFunction e;
+  e.a = int64_t(py) - qy;
+  e.b = int64_t(qx) - px;
+  e.c = -(e.a * px + e.b * py);
+  if (!is_top_left(e.a, e.b)) e.c -= 1;  // E == 0 on this edge is outside
+  return e;
+}
+
 struct TriangleSetup {
   EdgeFunction edge[3];
   // Pixel bounding box of the samples that can be covered, clipped to the screen, inclusive.

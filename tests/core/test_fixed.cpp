@@ -171,3 +171,38 @@ TEST(FixedDivision, RoundingAndFloorDivisionMatchTheirDefinitions) {
 }
 
 }  // namespace
+
+// The reciprocal division (one reciprocal a divisor, none a quotient) is exact over its stated range:
+// divisors 1..2^46, numerators below 2^17 d, with the extremes of the normalizing shift and numerators
+// next to multiples of the divisor, where the estimate falls short.
+TEST(FixedDivision, ReciprocalDivisionEqualsNativeDivision) {
+  std::mt19937_64 rng(2027);
+  auto check = [](uint64_t n, uint64_t d) {
+    const uint32_t r = ml::make_reciprocal(d);
+    ASSERT_EQ(ml::divide_by_reciprocal(n, d, r), n / d) << n << " / " << d;
+  };
+  const uint64_t max_d = uint64_t(1) << ml::kReciprocalDivisorBits;
+  const uint64_t divisors[] = {1, 2, 3, 7, (1u << 19) - 1, 1u << 19, (1u << 20) - 1, 1u << 20, (1u << 20) + 1,
+                               0xFFFFFFFFull, max_d - 1, max_d};
+  for (uint64_t d : divisors) {
+    const uint64_t top = (d << 17) - 1;
+    for (uint64_t n : {uint64_t(0), uint64_t(1), d - 1, d, d + 1, top - d, top - 1, top}) check(n, d);
+  }
+  for (int i = 0; i < 1000000; ++i) {
+    const uint64_t d = std::max<uint64_t>(1, (rng() >> 18) >> (rng() % 46));
+    const uint64_t n = rng() % (d << 17);
+    check(n, d);
+    const uint64_t m = n / d * d;
+    if (m > 0) check(m - 1, d);
+    check(m, d);
+  }
+}
+
+TEST(FixedArithmetic, FloorShiftRoundsDown) {
+  std::mt19937_64 rng(5);
+  for (int i = 0; i < 100000; ++i) {
+    const int64_t v = int64_t(rng() >> (1 + rng() % 62)) * ((rng() & 1) ? -1 : 1);
+    const int s = int(rng() % 20);
+    ASSERT_EQ(ml::floor_shift(v, s), ml::div_floor(v, int64_t(1) << s)) << v << " >> " << s;
+  }
+}

@@ -811,3 +811,135 @@ TEST(ScanlineMath, TexcoordsInterpolateLinearly) {
 }
 
 }  // namespace
+
+namespace {
+
+// A random piece in area2 > 0 order: tiny, pixel-sized, screen-sized or reaching into the guard band.
+// Every third one has its vertices on samples (multiples of 256 subpixels; pixel centres at aa == 1),
+// so that edges pass exactly through samples and the fill rule decides them.
+ml::ScreenTriangle random_piece(std::mt19937& rng, int it, int width, int height, int aa) {
+  const int32_t reach[] = {300, 3000, 40000, int32_t(ml::kGuardBandPixels) * 256};
+  const int32_t r = reach[it % 4];
+  std::uniform_int_distribution<int32_t> dx(-r, r), dy(-r, r);
+  const int32_t cx = std::uniform_int_distribution<int32_t>(0, width * 256)(rng);
+  const int32_t cy = std::uniform_int_distribution<int32_t>(0, height * 256)(rng);
+  for (;;) {
+    ml::ScreenTriangle t{};
+    for (int k = 0; k < 3; ++k) {
+      t.v[k].x = cx + dx(rng);
+      t.v[k].y = cy + dy(rng);
+      if (it % 7 == 0 && k == 2) t.v[k].y = t.v[0].y;  // horizontal edges
+      if (it % 3 == 0) {
+        const int32_t o = aa == 1 ? 128 : 0;
+        t.v[k].x = int32_t(ml::floor_shift(t.v[k].x, 8) * 256 + o);
+        t.v[k].y = int32_t(ml::floor_shift(t.v[k].y, 8) * 256 + o);
+      }
+    }
+    const int64_t a2 = (int64_t(t.v[1].x) - t.v[0].x) * (int64_t(t.v[2].y) - t.v[0].y) -
+                       (int64_t(t.v[1].y) - t.v[0].y) * (int64_t(t.v[2].x) - t.v[0].x);
+    if (a2 == 0) continue;
+    if (a2 < 0) std::swap(t.v[1], t.v[2]);
+    t.area2 = a2 < 0 ? -a2 : a2;
+    return t;
+  }
+}
+
+ml::scan::ActiveTri active_from(const ml::ScreenTriangle& t, const ml::scan::LatticeBox& box) {
+  ml::scan::ActiveTri a{};
+  for (int k = 0; k < 3; ++k) {
+    a.vx[k] = t.v[k].x;
+    a.vy[k] = t.v[k].y;
+  }
+  a.box_x0 = uint16_t(box.x0);
+  a.box_x1 = uint16_t(box.x1);
+  ml::scan::start_span(&a);
+  return a;
+}
+
+}  // namespace
+
+// Spans stepped row to row by walking the edge functions equal the spans found by division, on every
+// row of random pieces at every sampling rate, also when rows are skipped; at 1x1 both equal the
+// coverage of src/view sample by sample.
+TEST(ScanlineSpans, SteppedSpansEqualDividedSpansAndViewCoverage) {
+  std::mt19937 rng(41);
+  int rows = 0, covered = 0;
+  for (int it = 0; it < 4000; ++it) {
+    const int width = 1 + int(rng() % 90), height = 1 + int(rng() % 70);
+    const int aa = 1 + int(rng() % 8);
+    const ml::scan::Lattice lat = ml::scan::make_lattice(width, height, aa);
+    const ml::ScreenTriangle t = random_piece(rng, it, width, height, aa);
+    ml::scan::LatticeBox box;
+    if (!ml::scan::lattice_box(t, lat, &box)) continue;
+    ml::scan::ActiveTri a = active_from(t, box);
+    ml::TriangleSetup setup;
+    ml::setup_triangle(t, width, height, &setup);
+    for (int32_t y = box.y0; y <= box.y1; y += (it % 5 == 0) ? 1 + int32_t(rng() % 4) : 1) {
+      int32_t s0 = -1, s1 = -2, d0 = -1, d1 = -2;
+      const bool stepped = ml::scan::step_span(&a, lat, y, &s0, &s1);
+      const bool divided = ml::scan::row_span(a, lat, y, &d0, &d1);
+      const bool divided_in_box = divided && std::max(d0, box.x0) <= std::min(d1, box.x1);
+      ASSERT_EQ(stepped, divided_in_box) << "it " << it << " row " << y;
+      if (stepped) {
+        ASSERT_EQ(s0, std::max(d0, box.x0)) << "it " << it << " row " << y;
+        ASSERT_EQ(s1, std::min(d1, box.x1)) << "it " << it << " row " << y;
+        // Inside the box's rows and columns the divided span never leaves the box.
+        ASSERT_EQ(s0, d0);
+        ASSERT_EQ(s1, d1);
+      }
+      ++rows;
+      if (aa == 1) {
+        for (int32_t x = 0; x < width; ++x) {
+          const bool in = stepped && x >= s0 && x <= s1;
+          ASSERT_EQ(in, ml::covers_pixel(setup, x, y)) << "it " << it << " at " << x << "," << y;
+          covered += in;
+        }
+      }
+    }
+  }
+  EXPECT_GT(rows, 20000);
+  EXPECT_GT(covered, 10000);
+}
+
+// Gouraud weights from the piece's reciprocal equal round(E 2^16 / (area2 den)) by division at every
+// covered sample of random pieces, huge ones (numerators pre-shifted) included.
+TEST(ScanlineMath, WeightsByReciprocalEqualWeightsByDivision) {
+  std::mt19937 rng(43);
+  int checked = 0;
+  for (int it = 0; it < 3000; ++it) {
+    const int width = 1 + int(rng() % 60), height = 1 + int(rng() % 40);
+    const int aa = 1 + int(rng() % 8);
+    const ml::scan::Lattice lat = ml::scan::make_lattice(width, height, aa);
+    const ml::ScreenTriangle t = random_piece(rng, it, width, height, aa);
+    ml::scan::LatticeBox box;
+    if (!ml::scan::lattice_box(t, lat, &box)) continue;
+    ml::scan::ActiveTri a = active_from(t, box);
+    a.weight_recip = ml::scan::weight_reciprocal(a, lat);
+    for (int32_t y = box.y0; y <= box.y1; ++y) {
+      int32_t x0, x1;
+      if (!ml::scan::row_span(a, lat, y, &x0, &x1)) continue;
+      for (int32_t x = x0; x <= x1; x += 1 + (x1 - x0) / 7) {
+        int32_t w[3];
+        ml::scan::sample_weights(a, lat, x, y, w);
+        // The reference: unbiased edge functions at the sample, divided.
+        const int64_t u = int64_t(x) * 256 + lat.ox, v = int64_t(y) * 256 + lat.oy;
+        int64_t e[3];
+        for (int j = 0; j < 3; ++j) {
+          const int p = (j + 1) % 3, q = (j + 2) % 3;
+          e[j] = (int64_t(a.vy[p]) - a.vy[q]) * (u - int64_t(a.vx[p]) * lat.den) +
+                 (int64_t(a.vx[q]) - a.vx[p]) * (v - int64_t(a.vy[p]) * lat.den);
+          ASSERT_GE(e[j], 0);
+        }
+        const int64_t total = e[0] + e[1] + e[2];
+        ASSERT_EQ(total, t.area2 * lat.den);
+        const int shift = std::max(0, ml::bit_length(uint64_t(total)) - 46);
+        const int64_t den = std::max<int64_t>(1, total >> shift);
+        ASSERT_EQ(w[1], ml::div_round((e[1] >> shift) << 16, den)) << "it " << it;
+        ASSERT_EQ(w[2], ml::div_round((e[2] >> shift) << 16, den)) << "it " << it;
+        ASSERT_EQ(w[0] + w[1] + w[2], 65536);
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 20000);
+}
