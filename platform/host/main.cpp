@@ -517,10 +517,42 @@ void finish_render_args(RenderArgs* r) {
   if (!r->has_dither) r->opt.output.dither = ml::format_dithers_by_default(r->opt.output.format);
 }
 
-// One render into `sink` with an arena of the exact need (or --arena); failures exit with one line.
-// A sink's own message (sink_error, read after the render) explains a SinkFailed better than the status.
+// An arena kept from frame to frame (show): sized once by render_arena_bytes, which projects the whole
+// scene, and after that only grown when a render reports ArenaTooSmall (which it does before touching
+// the sink), so a frame does not pay for a sizing pass besides its own render.
+struct FrameArena {
+  std::vector<uint64_t> storage;
+  size_t bytes = 0;
+};
+
+ml::Status render_reusing(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o,
+                          FrameArena* frame, ml::Sink& sink, ml::Stats* stats) {
+  if (frame->bytes == 0) {
+    frame->bytes = ml::render_arena_bytes(scene, camera, o);
+    frame->storage.assign(frame->bytes / 8 + 1, 0);
+  }
+  for (;;) {
+    ml::Arena arena(frame->storage.data(), frame->bytes);
+    const ml::Status s = ml::render(scene, camera, o, arena, sink, stats);
+    if (s.code != ml::StatusCode::ArenaTooSmall || s.value <= frame->bytes) return s;
+    frame->bytes = size_t(s.value);
+    frame->storage.assign(frame->bytes / 8 + 1, 0);
+  }
+}
+
+// One render into `sink` with an arena of the exact need (or --arena, or `frame` reused from the
+// previous frame); failures exit with one line. A sink's own message (sink_error, read after the
+// render) explains a SinkFailed better than the status.
 ml::Stats render_into(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o,
-                      long long arena_override, ml::Sink& sink, const std::string* sink_error = nullptr) {
+                      long long arena_override, ml::Sink& sink, const std::string* sink_error = nullptr,
+                      FrameArena* frame = nullptr) {
+  if (frame && arena_override < 0) {
+    ml::Stats stats;
+    const ml::Status s = render_reusing(scene, camera, o, frame, sink, &stats);
+    if (s.code == ml::StatusCode::SinkFailed && sink_error && !sink_error->empty()) failure(*sink_error);
+    if (!s.ok()) failure(std::string("render failed: ") + status_text(s));
+    return stats;
+  }
   const size_t need = ml::render_arena_bytes(scene, camera, o);
   const size_t bytes = arena_override >= 0 ? size_t(arena_override) : need;
   std::vector<uint64_t> storage;
@@ -739,10 +771,12 @@ int cmd_show(int argc, char** argv) {
   const ml::Camera base = make_camera(scene, r.camera, r.width, r.height);
   const auto texture_file = open_texture_file(r, loaded);
   double seconds = 0;
+  FrameArena frame_arena;
   for (int f = 0; f < frames; ++f) {
     const ml::Camera camera = orbit_deg != 0 ? orbit(base, orbit_deg * f) : base;
     const auto start = std::chrono::steady_clock::now();
-    const ml::Stats stats = render_into(scene, camera, r.opt, r.arena_override, display->sink());
+    const ml::Stats stats =
+        render_into(scene, camera, r.opt, r.arena_override, display->sink(), nullptr, &frame_arena);
     const double frame_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     seconds += frame_s;
     if (!display->error().empty()) failure(display->error());

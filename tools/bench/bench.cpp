@@ -1,4 +1,4 @@
-// Benchmark driver: renders one frame of a scene with the tiler, the scanline renderer or a plain
+// Benchmark driver: renders one frame of a scene with the tiler, the scanline renderer or an integer
 // z-buffer baseline into a sink that discards pixels. Only the frame runs between
 // CALLGRIND_START_INSTRUMENTATION and CALLGRIND_STOP_INSTRUMENTATION, so
 //   valgrind --tool=callgrind --instr-atstart=no build/bench ...
@@ -45,14 +45,133 @@ class DiscardSink : public ml::Sink {
   uint64_t checksum_ = 0;
 };
 
-// The baseline: a plain z-buffer scan converter. Same camera, same project_triangle/setup_triangle
-// setup and the same flat shading as the renderers, but its own full-screen colour and depth buffers
-// and bounding-box + edge-function scan conversion of every triangle in scene order.
+// The baseline: what a good integer z-buffer renderer does (TinyGL, small3dlib): every vertex
+// transformed and projected once per frame (not once per triangle), back faces culled from the
+// projected winding, one flat colour per triangle, incremental edge functions along each row of the
+// triangle's box (leaving the row once the span is passed), a 32-bit integer depth buffer and a colour
+// buffer, and one write of the finished image to the sink. Triangles with a vertex behind the near
+// plane or outside the guard band go through project_triangle's clipping (rare). The vertex cache and
+// the two buffers are the baseline's own memory, counted in buffer_bytes.
 struct ZBufferStats {
   uint64_t pixels_tested = 0, pixels_written = 0;
   uint32_t triangles_drawn = 0;
   size_t buffer_bytes = 0;
 };
+
+struct ProjectedVertex {
+  int32_t x, y;     // subpixels
+  uint32_t depth;   // near * 2^30 / z, larger = nearer
+  bool ok;          // in front of the near plane and inside the guard band
+};
+
+ProjectedVertex project_vertex(const ml::View& view, const ml::Vec3i& world) {
+  const int32_t vx = ml::view_coordinate(view, view.right, world);
+  const int32_t vy = ml::view_coordinate(view, view.down, world);
+  const int32_t vz = ml::view_coordinate(view, view.forward, world);
+  ProjectedVertex p{0, 0, 0, false};
+  if (vz < view.near) return p;
+  const int64_t ox = ml::div_round(view.focal_q8 * vx, vz), oy = ml::div_round(view.focal_q8 * vy, vz);
+  const int64_t guard = int64_t(ml::kGuardBandPixels) << ml::kSubpixelBits;
+  if (ox < -guard || ox > guard || oy < -guard || oy > guard) return p;
+  p.x = int32_t(view.center_x + ox);
+  p.y = int32_t(view.center_y + oy);
+  p.depth = uint32_t((uint64_t(view.near) << ml::kDepthBits) / uint64_t(vz));
+  p.ok = true;
+  return p;
+}
+
+class ZBuffer {
+ public:
+  ZBuffer(int w, int h, ml::Pixel background)
+      : w_(w), h_(h), colour_(size_t(w) * size_t(h), background), depth_(size_t(w) * size_t(h), 0) {}
+
+  // Draws a triangle whose vertices are in area2 > 0 order (all edge functions >= 0 inside).
+  bool draw(const ml::ScreenVertex& v0, const ml::ScreenVertex& v1, const ml::ScreenVertex& v2, ml::Pixel colour,
+            ZBufferStats* st) {
+    ml::ScreenTriangle tri;
+    tri.v[0] = v0;
+    tri.v[1] = v1;
+    tri.v[2] = v2;
+    ml::TriangleSetup setup;
+    ml::setup_triangle(tri, w_, h_, &setup);
+    if (setup.min_x > setup.max_x || setup.min_y > setup.max_y) return false;
+    const int64_t area2 = (int64_t(v1.x) - v0.x) * (int64_t(v2.y) - v0.y) - (int64_t(v1.y) - v0.y) * (int64_t(v2.x) - v0.x);
+    // Depth as a Q16 plane over pixel centres: edge i is proportional to the weight of vertex i + 2.
+    const int64_t cx0 = int64_t(setup.min_x) * ml::kSubpixelOne + ml::kSubpixelHalf;
+    const int64_t cy0 = int64_t(setup.min_y) * ml::kSubpixelOne + ml::kSubpixelHalf;
+    const uint32_t d[3] = {v2.depth, v0.depth, v1.depth};
+    __int128 origin = 0, step_x = 0, step_y = 0;
+    int64_t e_row[3], e_dx[3], e_dy[3];
+    for (int i = 0; i < 3; ++i) {
+      const ml::EdgeFunction& e = setup.edge[i];
+      origin += __int128(e.a * cx0 + e.b * cy0 + e.c) * d[i];
+      step_x += __int128(e.a) * ml::kSubpixelOne * d[i];
+      step_y += __int128(e.b) * ml::kSubpixelOne * d[i];
+      e_row[i] = e.at(cx0, cy0);
+      e_dx[i] = e.a * ml::kSubpixelOne;
+      e_dy[i] = e.b * ml::kSubpixelOne;
+    }
+    const int64_t z_dx = int64_t((step_x << 16) / area2), z_dy = int64_t((step_y << 16) / area2);
+    int64_t z_row = int64_t((origin << 16) / area2);
+    bool drawn = false;
+    for (int y = setup.min_y; y <= setup.max_y; ++y) {
+      int64_t e0 = e_row[0], e1 = e_row[1], e2 = e_row[2], z = z_row;
+      ml::Pixel* crow = colour_.data() + size_t(y) * size_t(w_);
+      uint32_t* zrow = depth_.data() + size_t(y) * size_t(w_);
+      bool inside = false;
+      for (int x = setup.min_x; x <= setup.max_x; ++x) {
+        ++st->pixels_tested;
+        if ((e0 | e1 | e2) >= 0) {
+          inside = true;
+          const uint32_t zz = uint32_t(z >> 16);
+          if (zz > zrow[x]) {
+            zrow[x] = zz;
+            crow[x] = colour;
+            ++st->pixels_written;
+            drawn = true;
+          }
+        } else if (inside) {
+          break;  // a row of a triangle is one span: past it, nothing more to cover
+        }
+        e0 += e_dx[0];
+        e1 += e_dx[1];
+        e2 += e_dx[2];
+        z += z_dx;
+      }
+      for (int i = 0; i < 3; ++i) e_row[i] += e_dy[i];
+      z_row += z_dy;
+    }
+    return drawn;
+  }
+
+  bool send(ml::Sink& sink) const {
+    // The colour buffer is XRGB8888 already: the frame leaves as one band.
+    ml::FrameInfo frame;
+    frame.width = w_;
+    frame.height = h_;
+    frame.band_rows = h_;
+    ml::Flush all;
+    all.width = w_;
+    all.height = h_;
+    all.stride = uint32_t(w_) * 4;
+    all.bytes = reinterpret_cast<const uint8_t*>(colour_.data());
+    return sink.begin_frame(frame) && sink.flush(all) && sink.end_frame();
+  }
+  size_t bytes() const { return colour_.size() * sizeof(ml::Pixel) + depth_.size() * sizeof(uint32_t); }
+
+ private:
+  int w_, h_;
+  std::vector<ml::Pixel> colour_;
+  std::vector<uint32_t> depth_;
+};
+
+ml::ScreenVertex screen_vertex(const ProjectedVertex& p) {
+  ml::ScreenVertex v{};
+  v.x = p.x;
+  v.y = p.y;
+  v.depth = p.depth;
+  return v;
+}
 
 ml::Status zbuffer_render(const ml::Scene& scene, const ml::Camera& camera, ml::Pixel background, ml::Sink& sink,
                           ZBufferStats* st) {
@@ -60,88 +179,50 @@ ml::Status zbuffer_render(const ml::Scene& scene, const ml::Camera& camera, ml::
   ml::Status s = ml::make_view(camera, &view);
   if (!s.ok()) return s;
   const ml::Light light = ml::make_light(view);
-  const int w = camera.width, h = camera.height;
-  std::vector<ml::Pixel> colour(size_t(w) * size_t(h), background);
-  std::vector<uint32_t> depth(size_t(w) * size_t(h), 0);  // larger = nearer; 0 = empty
-  st->buffer_bytes = colour.size() * sizeof(ml::Pixel) + depth.size() * sizeof(uint32_t);
-  ml::ScreenTriangle pieces[ml::kMaxClipTriangles];
+  ZBuffer zb(camera.width, camera.height, background);
+  // The vertex cache: each vertex projected the first time a triangle uses it.
+  std::vector<ProjectedVertex> cache(scene.vertex_count);
+  std::vector<uint8_t> done(scene.vertex_count, 0);
+  st->buffer_bytes = zb.bytes() + cache.size() * sizeof(ProjectedVertex) + done.size();
   for (uint32_t id = 0; id < scene.triangle_count; ++id) {
-    ml::Vec3i world[3];
-    ml::triangle_world(scene, id, world);
-    const int count = ml::project_triangle(view, world, pieces);
-    if (count == 0) continue;
-    const bool double_sided = scene.materials[scene.batches[scene.triangles[id].batch].material].double_sided != 0;
+    const ml::Triangle& t = scene.triangles[id];
+    const bool double_sided = scene.materials[scene.batches[t.batch].material].double_sided != 0;
+    ProjectedVertex p[3];
+    bool all_ok = true;
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = t.v[k];
+      if (!done[v]) {
+        cache[v] = project_vertex(view, ml::vertex_world(scene, t.batch, v));
+        done[v] = 1;
+      }
+      p[k] = cache[v];
+      all_ok = all_ok && p[k].ok;
+    }
     bool drawn = false;
-    for (int p = 0; p < count; ++p) {
-      const ml::ScreenTriangle& tri = pieces[p];
-      if (!tri.front_facing && !double_sided) continue;
-      ml::TriangleSetup setup;
-      ml::setup_triangle(tri, w, h, &setup);
-      if (setup.min_x > setup.max_x || setup.min_y > setup.max_y) continue;
+    if (all_ok) {
+      // Counter-clockwise in glTF is clockwise on a y-down screen: area2 < 0 faces the eye.
+      const int64_t area2 = (int64_t(p[1].x) - p[0].x) * (int64_t(p[2].y) - p[0].y) -
+                            (int64_t(p[1].y) - p[0].y) * (int64_t(p[2].x) - p[0].x);
+      if (area2 == 0 || (area2 > 0 && !double_sided)) continue;
       ml::TriangleColors colors;
-      ml::shade_triangle(scene, light, ml::ShadingMode::Flat, id, tri.front_facing, &colors);
-      // Depth (linear in screen space) as a Q16 plane over pixel indices: edge i (v[i] -> v[i+1]) is
-      // proportional to the weight of the opposite vertex v[i+2].
-      const int64_t cx0 = int64_t(setup.min_x) * ml::kSubpixelOne + ml::kSubpixelHalf;
-      const int64_t cy0 = int64_t(setup.min_y) * ml::kSubpixelOne + ml::kSubpixelHalf;
-      __int128 origin = 0, step_x = 0, step_y = 0;
-      for (int i = 0; i < 3; ++i) {
-        const ml::EdgeFunction& e = setup.edge[i];
-        const int64_t d = tri.v[(i + 2) % 3].depth;
-        origin += __int128(e.a * cx0 + e.b * cy0 + e.c) * d;
-        step_x += __int128(e.a) * ml::kSubpixelOne * d;
-        step_y += __int128(e.b) * ml::kSubpixelOne * d;
-      }
-      const __int128 area2 = tri.area2;
-      const int64_t z_origin = int64_t((origin << 16) / area2);
-      const int64_t z_dx = int64_t((step_x << 16) / area2);
-      const int64_t z_dy = int64_t((step_y << 16) / area2);
-      int64_t e_row[3];
-      int64_t e_dx[3], e_dy[3];
-      for (int i = 0; i < 3; ++i) {
-        e_row[i] = setup.edge[i].at(cx0, cy0);
-        e_dx[i] = setup.edge[i].a * ml::kSubpixelOne;
-        e_dy[i] = setup.edge[i].b * ml::kSubpixelOne;
-      }
-      int64_t z_row = z_origin;
-      for (int y = setup.min_y; y <= setup.max_y; ++y) {
-        int64_t e0 = e_row[0], e1 = e_row[1], e2 = e_row[2], z = z_row;
-        ml::Pixel* crow = colour.data() + size_t(y) * size_t(w);
-        uint32_t* zrow = depth.data() + size_t(y) * size_t(w);
-        for (int x = setup.min_x; x <= setup.max_x; ++x) {
-          ++st->pixels_tested;
-          if ((e0 | e1 | e2) >= 0) {
-            const uint32_t zz = uint32_t(z >> 16);
-            if (zz > zrow[x]) {
-              zrow[x] = zz;
-              crow[x] = colors.flat;
-              ++st->pixels_written;
-              drawn = true;
-            }
-          }
-          e0 += e_dx[0];
-          e1 += e_dx[1];
-          e2 += e_dx[2];
-          z += z_dx;
-        }
-        for (int i = 0; i < 3; ++i) e_row[i] += e_dy[i];
-        z_row += z_dy;
+      ml::shade_triangle(scene, light, ml::ShadingMode::Flat, id, area2 < 0, &colors);
+      const int a = area2 < 0 ? 2 : 1, b = area2 < 0 ? 1 : 2;
+      drawn = zb.draw(screen_vertex(p[0]), screen_vertex(p[a]), screen_vertex(p[b]), colors.flat, st);
+    } else {
+      ml::Vec3i world[3];
+      ml::triangle_world(scene, id, world);
+      ml::ScreenTriangle pieces[ml::kMaxClipTriangles];
+      const int count = ml::project_triangle(view, world, pieces);
+      for (int k = 0; k < count; ++k) {
+        if (!pieces[k].front_facing && !double_sided) continue;
+        ml::TriangleColors colors;
+        ml::shade_triangle(scene, light, ml::ShadingMode::Flat, id, pieces[k].front_facing, &colors);
+        drawn |= zb.draw(pieces[k].v[0], pieces[k].v[1], pieces[k].v[2], colors.flat, st);
       }
     }
     st->triangles_drawn += drawn;
   }
-  // The colour buffer is XRGB8888 already: the frame leaves as one band.
-  ml::FrameInfo frame;
-  frame.width = w;
-  frame.height = h;
-  frame.band_rows = h;
-  ml::Flush all;
-  all.width = w;
-  all.height = h;
-  all.stride = uint32_t(w) * 4;
-  all.bytes = reinterpret_cast<const uint8_t*>(colour.data());
-  if (!sink.begin_frame(frame) || !sink.flush(all) || !sink.end_frame())
-    return ml::error(ml::StatusCode::SinkFailed, "sink refused the frame");
+  if (!zb.send(sink)) return ml::error(ml::StatusCode::SinkFailed, "sink refused the frame");
   return ml::ok_status();
 }
 
@@ -230,6 +311,8 @@ int frame(const std::string& path, const std::string& renderer, const std::strin
   ml::Stats stats;
   ml::Status s;
   const double pixels = double(w) * h;
+  // BSP pieces per scene triangle (the scene compiler splits triangles the BSP planes cut).
+  const double split = scene.triangle_count ? double(scene.bsp_piece_count) / scene.triangle_count : 0.0;
   if (renderer == "zbuffer") {
     ZBufferStats z;
     CALLGRIND_START_INSTRUMENTATION;
@@ -240,9 +323,9 @@ int frame(const std::string& path, const std::string& renderer, const std::strin
       return 1;
     }
     printf("renderer=zbuffer size=%dx%d aa=1 triangles=%u drawn=%u pixels_tested=%llu pixels_written=%llu "
-           "buffer_bytes=%zu sink_pixels=%llu\n",
+           "buffer_bytes=%zu sink_pixels=%llu split_ratio=%.4f\n",
            w, h, scene.triangle_count, z.triangles_drawn, (unsigned long long)z.pixels_tested,
-           (unsigned long long)z.pixels_written, z.buffer_bytes, (unsigned long long)sink.pixels_);
+           (unsigned long long)z.pixels_written, z.buffer_bytes, (unsigned long long)sink.pixels_, split);
     return 0;
   }
   ml::RenderOptions o;
@@ -264,11 +347,12 @@ int frame(const std::string& path, const std::string& renderer, const std::strin
   }
   printf("renderer=%s size=%dx%d aa=%d triangles=%u drawn=%u culled=%u cells_visited=%llu cells_per_pixel=%.4f "
          "peak_arena_bytes=%u arena_bytes=%zu pyramid_bytes=%u shading_calls=%llu geometry_samples=%llu m_max=%u n=%u "
-         "pixel_writes=%llu sink_pixels=%llu bands=%u\n",
+         "pixel_writes=%llu sink_pixels=%llu bands=%u triangles_tiled=%u split_ratio=%.4f\n",
          renderer.c_str(), w, h, aa, scene.triangle_count, stats.triangles_drawn, stats.triangles_culled,
          (unsigned long long)stats.cells_visited, double(stats.cells_visited) / pixels, stats.peak_arena_bytes, bytes,
          stats.pyramid_bytes, (unsigned long long)stats.shading_calls, (unsigned long long)stats.geometry_samples,
-         stats.m_max, stats.n, (unsigned long long)stats.pixel_writes, (unsigned long long)sink.pixels_, stats.bands);
+         stats.m_max, stats.n, (unsigned long long)stats.pixel_writes, (unsigned long long)sink.pixels_, stats.bands,
+         stats.triangles_tiled, split);
   return 0;
 }
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# make bench: instructions per frame (callgrind, frame only) for the tiler, the scanline renderer and a
-# plain z-buffer baseline. Prints a table and rewrites the generated section of docs/benchmarks.md.
+# make bench: instructions per frame (callgrind, frame only) for the tiler, the scanline renderer and an
+# integer z-buffer baseline. Prints a table and rewrites the generated section of docs/benchmarks.md.
 # Usage: tools/bench/run.sh BUILD
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/doc_section.sh"
@@ -12,8 +12,17 @@ command -v valgrind >/dev/null || { echo "bench: valgrind is missing (run tools/
 [ -x "$bench" ] || { echo "bench: $bench is missing (make bench builds it)"; exit 1; }
 
 engine=/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb
-scenes=(office:8 tessellated:100000 banded banded-plain)
+# A screen-filling model of a few thousand triangles: the COLLADA duck (4,212 triangles), converted to
+# glTF 2.0 by assimp (Debian's assimp-utils, installed by tools/bootstrap.sh).
+duck_dae=/usr/share/assimp/models/Collada/duck.dae
+scenes=(default office:8 tessellated:100000)
 [ -f "$engine" ] && scenes=(engine "${scenes[@]}")
+if [ -f "$duck_dae" ] && command -v assimp >/dev/null; then
+  assimp export "$duck_dae" "$work/duck.glb" -f glb2 >/dev/null && scenes+=(duck)
+else
+  echo "bench: no duck model (needs assimp-testmodels and assimp-utils: tools/bootstrap.sh)"
+fi
+scenes+=(banded banded-plain)
 boxtex=/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb
 [ -f "$boxtex" ] && scenes+=(boxtextured boxtextured-plain)
 
@@ -22,6 +31,7 @@ for s in "${scenes[@]}"; do
   name=${s%%:*}
   src=$s
   [ "$name" = engine ] && src=$engine
+  [ "$name" = duck ] && src=$work/duck.glb
   [ "$name" = boxtextured ] && src=$boxtex
   [ "$name" = boxtextured-plain ] && src="plain:$boxtex"
   "$bench" prepare "$src" "$work/$name.mls"
@@ -31,7 +41,7 @@ done
 field() { { grep -o "\b$1=[^ ]*" <<<"$2" || true; } | head -1 | cut -d= -f2; }
 
 rows=()
-declare -A base_ir all_ir arena_bound
+declare -A base_ir all_ir arena_bound per_tiled_ir split_of
 # measure NAME RENDERER SIZE AA [SHADING] -> appends a table row
 measure() {
   local name=$1 renderer=$2 size=$3 aa=$4 shading=${5:-flat}
@@ -40,7 +50,7 @@ measure() {
   line=$(valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file="$out" \
            "$bench" frame "$work/$name.mls" "$renderer" "$size" "$aa" "$shading" 2>"$out.log") || {
     echo "bench: $name $renderer $size aa $aa failed: $(tail -1 "$out.log")"
-    rows+=("| $name | $renderer | $size | $aa | failed | | | | | | | |")
+    rows+=("| $name | $renderer | $size | $aa | failed | | | | | | | | | |")
     return 0
   }
   local ir
@@ -67,27 +77,36 @@ measure() {
   fi
   [ "$renderer" = tiler ] || cells=""
   [ "$renderer" = scanline ] || { mmax=""; n=""; reuse=""; }
+  local tiled per_tiled="" split
+  tiled=$(field triangles_tiled "$line"); split=$(field split_ratio "$line")
+  if [ "$renderer" = tiler ] && [ -n "$tiled" ] && [ "$tiled" != 0 ]; then
+    per_tiled=$(awk -v i="$ir" -v t="$tiled" 'BEGIN { printf "%.0f", i / t }')
+    per_tiled_ir["$name.$size"]=$per_tiled
+  fi
+  split_of["$name"]=$split
   all_ir["$name.$renderer.$size.$aa"]=$ir
   if [ "$renderer" = scanline ]; then
     arena_bound["$name.$aa"]="$peak $((16 * n + 64 * mmax + 16 * w))"
   fi
   local tris
   tris=$(field triangles "$line")
-  rows+=("| $name${5:+ ($shading)} | $renderer | $size | $aa | $ir | $per_pixel | $ratio | ${cells:-} | ${peak:-} | ${reuse:-} | ${mmax:-} | ${n:-} |")
-  echo "  $name $renderer $size aa$aa: $ir instructions ($per_pixel/pixel) ${ratio:+x$ratio baseline} [$tris triangles]"
+  rows+=("| $name${5:+ ($shading)} | $renderer | $size | $aa | $ir | $per_pixel | $ratio | ${per_tiled:-} | ${split:-} | ${cells:-} | ${peak:-} | ${reuse:-} | ${mmax:-} | ${n:-} |")
+  echo "  $name $renderer $size aa$aa: $ir instructions ($per_pixel/pixel) ${ratio:+x$ratio baseline}${per_tiled:+ $per_tiled/tiled triangle} [$tris triangles]"
 }
 
 start=$SECONDS
 echo "bench: tiler against the z-buffer baseline"
-for name in engine office; do
+for name in engine office default duck; do
   [ -f "$work/$name.mls" ] || continue
-  for size in 320x240 1024x768; do
+  sizes=(320x240 1024x768)
+  case $name in default|duck) sizes=(320x240 128x64) ;; esac
+  for size in "${sizes[@]}"; do
     measure "$name" zbuffer "$size" 1
     measure "$name" tiler "$size" 1
   done
 done
 echo "bench: scanline at 1x1, 3x3, 4x4"
-for name in engine tessellated; do
+for name in engine tessellated default duck; do
   [ -f "$work/$name.mls" ] || continue
   # The smooth model is shaded as the paper's are (Gouraud: a surface is a whole smooth batch).
   shading=flat
@@ -104,13 +123,14 @@ for name in banded boxtextured; do
   done
 done
 
-header="| scene | renderer | size | aa | instructions/frame | per pixel | vs z-buffer | cells/pixel | peak arena bytes | shading_calls/geometry_samples | m_max | n |"
-sep="|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+header="| scene | renderer | size | aa | instructions/frame | per pixel | vs z-buffer | per tiled triangle | split ratio | cells/pixel | peak arena bytes | shading_calls/geometry_samples | m_max | n |"
+sep="|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 table=$(printf '%s\n%s\n' "$header" "$sep"; printf '%s\n' "${rows[@]}")
 # ratio A B: A / B with two decimals, or "n/a"
 ratio() { if [ -n "${1:-}" ] && [ -n "${2:-}" ] && [ "$2" != 0 ]; then awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", a / b }'; else echo n/a; fi; }
 notes=("" "Key ratios:")
-for name in engine tessellated; do
+for name in engine tessellated default duck; do
+  [ -n "${all_ir[$name.scanline.320x240.1]:-}" ] || continue
   one=${all_ir[$name.scanline.320x240.1]:-}
   notes+=("- $name, scanline 3x3 / 1x1: $(ratio "${all_ir[$name.scanline.320x240.3]:-}" "$one"); 4x4 / 1x1: $(ratio "${all_ir[$name.scanline.320x240.4]:-}" "$one")")
   for aa in 1 3 4; do
@@ -124,6 +144,14 @@ for name in banded boxtextured; do
   done
 done
 notes+=("- engine 320x240, scanline 1x1 / tiler: $(ratio "${all_ir[engine.scanline.320x240.1]:-}" "${all_ir[engine.tiler.320x240.1]:-}")")
+for name in default duck engine; do
+  [ -n "${per_tiled_ir[$name.320x240]:-}" ] && notes+=("- $name 320x240, tiler instructions per tiled triangle (frame / Stats::triangles_tiled): ${per_tiled_ir[$name.320x240]}")
+done
+split_note="- BSP split ratio (pieces / triangles):"
+for name in engine office tessellated default duck; do
+  [ -n "${split_of[$name]:-}" ] && split_note+=" $name ${split_of[$name]};"
+done
+notes+=("${split_note%;}")
 notes+=("- office, tiler / z-buffer: 320x240 $(ratio "${all_ir[office.tiler.320x240.1]:-}" "${all_ir[office.zbuffer.320x240.1]:-}"), 1024x768 $(ratio "${all_ir[office.tiler.1024x768.1]:-}" "${all_ir[office.zbuffer.1024x768.1]:-}")")
 table=$(printf '%s\n' "$table" "${notes[@]}")
 echo
@@ -134,7 +162,7 @@ echo "bench: done in $((SECONDS - start)) s"
 doc=docs/benchmarks.md
 section=$(printf '%s\n' "<!-- bench:begin (generated by make bench; do not edit by hand) -->" \
   "Measured $(date -u +%Y-%m-%d) on $(uname -m), $(valgrind --version), g++ -O2; instructions of one frame (callgrind)." \
-  "Scenes: engine = 2CylinderEngine.glb, office = build_office_scene(8) seen down its rows, tessellated = build_tessellated_scene(100000), banded = build_banded_scene() (four textured bands filling most of the frame), boxtextured = BoxTextured.glb; *-plain = the same scene compiled without its images (material colours)." \
+  "Scenes: engine = 2CylinderEngine.glb, office = build_office_scene(8) seen down its rows, tessellated = build_tessellated_scene(100000), default = the bundled scene (build_default_scene), duck = the COLLADA duck (4,212 triangles) converted to glTF by assimp, framed to fill the screen, banded = build_banded_scene() (four textured bands filling most of the frame), boxtextured = BoxTextured.glb; *-plain = the same scene compiled without its images (material colours)." \
   "" "$table" "<!-- bench:end -->")
 write_doc_section bench "Instructions per frame" "$section"
 echo "bench: table written to $doc"
