@@ -357,6 +357,21 @@ TEST(TextureRender, SupersampledScanlineFiltersTexels) {
   EXPECT_GE(three.stats.shading_calls, three.stats.geometry_samples * 9 / 10);  // textured: every sample shaded
 }
 
+TEST(TextureRender, OversampledTilerTexturesEveryPixel) {
+  const mlhost::LoadedScene& s = load("builtin:banded");
+  const ml::Camera cam = textest::camera_for(s, 160, 120);
+  const Frame one = textest::render(s.scene, cam, textest::options(ml::RendererKind::Tiler));
+  const Frame four = textest::render(s.scene, cam, textest::options(ml::RendererKind::Tiler, ml::ShadingMode::Unlit, 4));
+  ASSERT_TRUE(four.status.ok() && four.contract) << four.status.message << four.contract_error;
+  EXPECT_EQ(four.stats.texture_loads, 4u);
+  // A pixel inside a piece takes its texel at the pixel centre, as without oversampling; only pixels
+  // on piece edges blend.
+  size_t same = 0;
+  for (size_t i = 0; i < one.pixels.size(); ++i) same += one.pixels[i] == four.pixels[i];
+  EXPECT_GT(same, one.pixels.size() * 9 / 10);
+  EXPECT_LT(same, one.pixels.size());
+}
+
 // ---- the pager ----------------------------------------------------------------------------------------
 
 uint32_t total_texture_bytes(const ml::Scene& s) {
