@@ -36,6 +36,8 @@ uint32_t element_size(uint32_t type, bool wide) {
     case SectionType::Textures: return sizeof(TextureRef);
     case SectionType::BspSplits: return 4 * index;
     case SectionType::Uvs: return 8;
+    case SectionType::TextureTexels: return sizeof(TextureTexels);
+    case SectionType::Texels: return 1;
   }
   return 0;
 }
@@ -154,6 +156,39 @@ Status check_materials(const Scene& s) {
     if (m.texture != kNone && m.texture >= s.texture_count) return bad("material texture index out of range");
     if (m.double_sided > 1) return bad("material double_sided not 0 or 1");
     if (m.alpha_mode > uint8_t(AlphaMode::Blend)) return bad("material alpha mode invalid");
+  }
+  return ok_status();
+}
+
+bool power_of_two_side(uint32_t v) { return v >= 1 && v <= kMaxTextureDim && (v & (v - 1)) == 0; }
+
+Status check_texture(const TextureTexels& t, uint32_t texel_bytes) {
+  if (t.format > uint8_t(TexelFormat::Grey4)) return bad("texture format invalid");
+  if (t.wrap_s > uint8_t(TextureWrap::ClampToEdge) || t.wrap_t > uint8_t(TextureWrap::ClampToEdge))
+    return bad("texture wrap mode invalid");
+  if (t.filter > uint8_t(TextureFilter::Bilinear)) return bad("texture filter invalid");
+  if (t.reserved != 0) return bad("texture reserved field not zero");
+  const TexelFormat format = TexelFormat(t.format);
+  if (format == TexelFormat::None) {
+    if (t.width != 0 || t.height != 0 || t.bytes != 0 || t.palette_size != 0) return bad("empty texture not zero");
+    return ok_status();
+  }
+  if (!power_of_two_side(t.width) || !power_of_two_side(t.height)) return bad("texture size not a power of two up to limit");
+  const bool palette = format == TexelFormat::Palette8;
+  if (palette ? (t.palette_size < 1 || t.palette_size > 256) : t.palette_size != 0)
+    return bad("texture palette size invalid");
+  if (t.bytes != texture_bytes(format, t.width, t.height, t.palette_size)) return bad("texture byte count wrong");
+  if ((t.offset & 3u) != 0) return bad("texture offset not 4-byte aligned");
+  if (!range_ok(t.offset, t.bytes, texel_bytes)) return bad("texture texels outside texels section");
+  return ok_status();
+}
+
+Status check_textures(const Scene& s) {
+  if (s.texture_texels == nullptr) return ok_status();
+  if (s.texture_texels_count != s.texture_count) return bad("texture texels count differs from textures");
+  for (uint32_t i = 0; i < s.texture_texels_count; ++i) {
+    const Status st = check_texture(s.texture_texels[i], s.texel_bytes);
+    if (!st.ok()) return st;
   }
   return ok_status();
 }
@@ -367,10 +402,13 @@ Status read_scene(const void* blob, size_t size, Scene* out, CrcCheck crc) {
   s.bsp_pieces = section_data<uint8_t>(base, sec.get(SectionType::BspPieces), &s.bsp_piece_count);
   s.bsp_splits = section_data<uint8_t>(base, sec.get(SectionType::BspSplits), &s.bsp_split_count);
   s.textures = section_data<TextureRef>(base, sec.get(SectionType::Textures), &s.texture_count);
+  s.texture_texels = section_data<TextureTexels>(base, sec.get(SectionType::TextureTexels), &s.texture_texels_count);
+  s.texels = section_data<uint8_t>(base, sec.get(SectionType::Texels), &s.texel_bytes);
 
   if (!(st = check_info(*s.info)).ok()) return st;
   if (!(st = check_index_width(s)).ok()) return st;
   if (!(st = check_materials(s)).ok()) return st;
+  if (!(st = check_textures(s)).ok()) return st;
   if (!(st = check_nodes(s)).ok()) return st;
   if (!(st = check_batches(s)).ok()) return st;
   if (!(st = check_vertices(s, sec.get(SectionType::Uvs))).ok()) return st;
@@ -386,6 +424,12 @@ Vec3i vertex_world(const Scene& scene, uint32_t batch, uint32_t vertex) {
   return Vec3i{int32_t(b.offset[0] + ((int64_t(q[0]) * b.scale[0]) >> 16)),
                int32_t(b.offset[1] + ((int64_t(q[1]) * b.scale[1]) >> 16)),
                int32_t(b.offset[2] + ((int64_t(q[2]) * b.scale[2]) >> 16))};
+}
+
+const TextureTexels* material_texels(const Scene& scene, const Material& material) {
+  if (material.texture == kNone || scene.texture_texels == nullptr) return nullptr;
+  const TextureTexels* t = &scene.texture_texels[material.texture];
+  return t->format == uint8_t(TexelFormat::None) ? nullptr : t;
 }
 
 void triangle_world(const Scene& scene, uint32_t id, Vec3i out[3]) {

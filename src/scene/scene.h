@@ -58,6 +58,9 @@ struct Scene {
   const TextureRef* textures = nullptr;      uint32_t texture_count = 0;
   bool wide = false;                         // 32-bit index fields (SceneInfo kWideIndices)
   int bounds_shift = 0;                      // log2 of a BSP bounds cell
+  // Optional: absent in scenes without texels (then every material draws its base colour).
+  const TextureTexels* texture_texels = nullptr;  uint32_t texture_texels_count = 0;  // == texture_count
+  const uint8_t* texels = nullptr;           uint32_t texel_bytes = 0;
 };
 
 // CRC-32 (IEEE 802.3, reflected, as zlib's crc32). Pass the previous value to continue a running CRC.
@@ -138,6 +141,10 @@ inline void vertex_uv(const Scene& s, uint32_t v, int32_t out[2]) {
 
 // World position of a vertex quantized with `batch`. Only valid on a Scene from read_scene.
 Vec3i vertex_world(const Scene& scene, uint32_t batch, uint32_t vertex);
+
+// The texels of a material's base-colour texture, or null when it has none (no texture, no texels
+// section, or a texture the compiler stored as TexelFormat::None).
+const TextureTexels* material_texels(const Scene& scene, const Material& material);
 
 // World positions of triangle `id`'s three vertices.
 void triangle_world(const Scene& scene, uint32_t id, Vec3i out[3]);

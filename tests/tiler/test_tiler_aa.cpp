@@ -101,7 +101,7 @@ void random_scene(uint32_t seed, int count, mlhost::LoadedScene* out) {
 
 ml::Pixel base_colour(const ml::Scene& scene, int64_t id) {
   if (id < 0) return kBackground;
-  const ml::Material& m = scene.materials[scene.batches[scene.triangles[id].batch].material];
+  const ml::Material& m = scene.materials[scene.batches[ml::triangle_at(scene, id).batch].material];
   return ml::rgb(m.base_color[0], m.base_color[1], m.base_color[2]);
 }
 
