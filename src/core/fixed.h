@@ -42,7 +42,6 @@ constexpr int32_t kWorldLimit = 1 << 24;    // any world point handed to the vie
 constexpr int32_t kWorldPositionLimit = 1 << 18;          // |dequantized vertex position| < 2^18
 constexpr int32_t kSceneLimit = 1 << 18;                  // bounds, sphere centre, BSP node bounds
 constexpr int32_t kRadiusLimit = 1 << 20;                 // bounding sphere radius
-constexpr int64_t kPlaneOffsetLimit = int64_t(1) << 50;   // |d| of a BSP plane (Q1.30 scale; int32 Q12 in the blob)
 constexpr int32_t kBspBoundsLimit = 1 << 21;              // decoded BSP node box (whole grid cells)
 constexpr int kMaxBoundsShift = 12;                       // BSP bounds cell at most 2^12 world units
 constexpr int kViewFractionBits = 4;     // view space keeps 4 bits below the world unit
