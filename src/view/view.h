@@ -83,6 +83,12 @@ int project_triangle(const View& view, const Vec3i world[3], ScreenTriangle out[
 // is a piece of (BSP pieces take their original triangle's facing).
 int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenTriangle out[kMaxClipTriangles]);
 
+// The screen positions (subpixels) project_triangle gives a triangle it does not clip, before it orders
+// them (area2 > 0) and without depths or weights: a cheap first look for callers that may drop the
+// triangle. False when project_triangle would clip it (a vertex behind the near plane or outside the
+// guard band): then call project_triangle.
+bool project_unclipped_positions(const View& view, const Vec3i world[3], int32_t x[3], int32_t y[3]);
+
 // One view-space coordinate (1/16 world unit) of a world point: the world→view row `axis` (Q1.30)
 // dotted with the offset from the eye. |offset| < 2^25, so the dot product stays below 2^56. Rounds
 // half up (an arithmetic shift of the biased value): cheaper than symmetric rounding, as exact.
