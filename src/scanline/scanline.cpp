@@ -680,7 +680,7 @@ struct Renderer {
 
   // A shading call for keepObj column c: compared with the pixel's kept colour and its neighbours'; a
   // difference forces shading of their later samples.
-  Pixel shade_kept(ActiveTri& front, int32_t x, int32_t y, int32_t c, uint32_t key) {
+  [[gnu::always_inline]] Pixel shade_kept(ActiveTri& front, int32_t x, int32_t y, int32_t c, uint32_t key) {
     uint32_t& kr = keep_rgb[c];
     const Pixel col = shade(front, x, y);
     bool differ = (kr & kValid) && differs(kr, col);
