@@ -91,8 +91,14 @@ $(BUILD)/san/maskline: $(BUILD)/san/obj/platform/host/main.o $(HOST_SOBJ) $(SCEN
 	$(CXX) $(SAN) -o $@ $^ $(HOST_LIBS)
 
 # benchmark driver (tools/bench): one frame under callgrind, plus the z-buffer baseline
-$(BUILD)/bench: $(call rel,$(BENCH_SRC)) $(HOST_OBJ) $(SCENEC_OBJ) $(BUILD)/libmaskline.a
+# (bench quality compares with the test oracle, a double-precision reference rasterizer)
+ORACLE_SRC := tests/oracle/oracle.cpp tests/oracle/scene_triangles.cpp
+$(BUILD)/bench: $(call rel,$(BENCH_SRC)) $(call rel,$(ORACLE_SRC)) $(HOST_OBJ) $(SCENEC_OBJ) $(BUILD)/libmaskline.a
 	$(CXX) $(OPT) -o $@ $^ $(HOST_LIBS)
+
+# side_by_side: joins PNG pictures for make demo (tools/picture)
+$(BUILD)/side_by_side: $(call rel,tools/picture/side_by_side.cpp) $(BUILD)/obj/platform/host/png_io.o
+	$(CXX) $(OPT) -o $@ $^ -lpng
 
 # sort_bench: instructions of the scanline renderer's active-list sorts (docs/scanline.md)
 $(BUILD)/sort_bench: $(call rel,tools/bench/sort/sort_bench.cpp)
@@ -230,6 +236,7 @@ tables: $(BUILD)/maskgen
 	$(BUILD)/maskgen --k $(MASK_K) --out tables
 
 demo: all
+	@$(MAKE) --no-print-directory $(BUILD)/side_by_side
 	@bash tools/demo.sh $(BUILD)
 
 bench: all

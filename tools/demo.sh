@@ -20,6 +20,12 @@ render "bundled scene, tiler (colour, ids, work image)" --size 640x480 \
   -o "$out/default-tiler.png" --ids "$out/default-tiler-ids.png" --work "$out/default-tiler-work.png"
 render "bundled scene, scanline, 3x3 samples per pixel" --renderer scanline --aa 3 --size 640x480 \
   -o "$out/default-scanline-aa3.png"
+render "bundled scene, tiler, 8x8 samples per pixel (box filter)" --aa 8 --size 640x480 \
+  -o "$out/default-tiler-aa8.png"
+# Point-sampled beside antialiased, a detail enlarged 4 times.
+"$build/side_by_side" "$out/default-tiler-vs-aa8.png" --crop 240,180,160,120 --zoom 4 \
+  "$out/default-tiler.png" "$out/default-tiler-aa8.png"
+echo "== point-sampled (left) and 8x8 antialiased (right) tiler, detail 4x: $out/default-tiler-vs-aa8.png"
 if [ -f "$engine" ]; then
   render "2CylinderEngine, tiler" "$engine" --size 640x480 \
     -o "$out/engine-tiler.png" --ids "$out/engine-tiler-ids.png" --work "$out/engine-tiler-work.png"

@@ -67,14 +67,15 @@ const char* const kInfoHelp =
     "\n"
     "Prints triangles, nodes, materials, bounds (world and glTF units), the BSP (nodes, pieces, split\n"
     "ratio) and the arena bytes a render at --size (default 320x240) needs, for both renderers or the\n"
-    "one given. --aa applies to the scanline renderer (the tiler samples once per pixel).\n";
+    "one given. --aa: samples per pixel per axis (the tiler takes 1, 2, 4 or 8; ids are point-sampled).\n";
 
 const char* const kRenderHelp =
     "usage: maskline render [SCENE] [options]\n"
     "\n"
     "  --renderer tiler|scanline   visibility algorithm (default tiler)\n"
     "  --size WxH                  image size in pixels, 1..4096 each (default 320x240)\n"
-    "  --aa N                      N x N samples per pixel, 1..8 (scanline only; default 1)\n"
+    "  --aa N                      N x N samples per pixel (default 1): scanline 1..8, tiler 1, 2, 4\n"
+    "                              or 8 (box filter over a regular grid)\n"
     "  --shading unlit|flat|gouraud|lines\n"
     "                              base colours; + one directional light; per-vertex lighting;\n"
     "                              hidden-line drawing (scanline only). Default flat\n"
@@ -360,7 +361,8 @@ int cmd_info(int argc, char** argv) {
     which = parse_renderer(*v);
     only = true;
   }
-  if (only && which == ml::RendererKind::Tiler && aa != 1) usage_error("--aa: the tiler samples once per pixel (use --aa 1)");
+  const bool tiler_aa = aa == 1 || aa == 2 || aa == 4 || aa == 8;
+  if (only && which == ml::RendererKind::Tiler && !tiler_aa) usage_error("--aa: the tiler takes 1, 2, 4 or 8");
   mlhost::LoadedScene loaded;
   const ml::Scene scene = require_scene(a.positional.empty() ? "" : a.positional[0], &loaded);
   const ml::SceneInfo& info = *scene.info;
@@ -388,7 +390,8 @@ int cmd_info(int argc, char** argv) {
     if (only && k != which) continue;
     ml::RenderOptions o;
     o.renderer = k;
-    o.aa = k == ml::RendererKind::Tiler ? 1 : aa;
+    if (k == ml::RendererKind::Tiler && !tiler_aa) continue;
+    o.aa = aa;
     const size_t bytes = ml::render_arena_bytes(scene, base, o);
     printf("arena bytes (%s, %dx%d, aa %d): %zu\n", renderer_name(k), width, height, o.aa, bytes);
   }
@@ -453,7 +456,9 @@ bool parse_render_option(const std::string& n, const std::string& v, RenderArgs*
 void finish_render_args(RenderArgs* r) {
   const bool tiler = r->opt.renderer == ml::RendererKind::Tiler;
   if (r->opt.shading == ml::ShadingMode::Lines && tiler) usage_error("--shading lines: needs --renderer scanline");
-  if (tiler && r->opt.aa != 1) usage_error("--aa: the tiler samples once per pixel (use --aa 1 or --renderer scanline)");
+  const int aa = r->opt.aa;
+  if (tiler && aa != 1 && aa != 2 && aa != 4 && aa != 8)
+    usage_error("--aa: the tiler takes 1, 2, 4 or 8 samples per pixel per axis (or use --renderer scanline)");
   if (!r->has_dither) r->opt.output.dither = ml::format_dithers_by_default(r->opt.output.format);
 }
 

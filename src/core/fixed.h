@@ -49,7 +49,9 @@ constexpr int kViewLimitBits = 30;
 // Screen-space guard band: after clipping, every vertex lies within ±kGuardBandPixels of the screen
 // centre, so screen coordinates stay below 2^22 subpixels and edge functions below 2^47.
 constexpr int32_t kGuardBandPixels = 1 << 13;
-constexpr int32_t kMaxScreenDim = 4096;     // widest/tallest render (in samples) the pipeline supports
+constexpr int32_t kMaxScreenDim = 4096;     // widest/tallest render (in pixels) the pipeline supports
+constexpr int kMaxTilerAa = 8;              // the tiler's samples per pixel per axis: 1, 2, 4 or 8
+constexpr int32_t kMaxSampleDim = kMaxScreenDim * kMaxTilerAa;  // the tiler's samples per side
 
 // Scanline renderer (docs/scanline.md): l x l samples per pixel, l <= kMaxSamplesPerAxis; sample
 // lattice indices up to kMaxScreenDim * (l - 1) fit int16 (edge boundaries) and uint16 (spans, rows).

@@ -6,7 +6,7 @@ namespace ml {
 
 bool make_pyramid_layout(int width, int height, PyramidLayout* out) {
   *out = PyramidLayout{};
-  if (width < 1 || height < 1 || width > kMaxScreenDim || height > kMaxScreenDim) return false;
+  if (width < 1 || height < 1 || width > kMaxSampleDim || height > kMaxSampleDim) return false;
   const int side = max_of(width, height);
   int n = 2;  // a root triage mask over one-bit blocks at least
   while ((1 << (3 * n)) < side) ++n;

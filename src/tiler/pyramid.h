@@ -22,7 +22,7 @@
 
 namespace ml {
 
-constexpr int kPyramidMaxLevels = 4;  // 8^4 = 4096 = kMaxScreenDim samples per side
+constexpr int kPyramidMaxLevels = 5;  // 8^5 = 32768 = kMaxSampleDim samples per side
 
 struct TriageMask {
   uint64_t c, v;
@@ -42,7 +42,7 @@ struct PyramidLayout {
   uint32_t bytes() const { return triage_count * 16u + block_count * 8u; }
 };
 
-// False when width or height is outside 1..kMaxScreenDim.
+// False when width or height is outside 1..kMaxSampleDim.
 bool make_pyramid_layout(int width, int height, PyramidLayout* out);
 
 struct Pyramid {

@@ -108,7 +108,7 @@ class EdgeRows {
 
 // Boxes up to this many samples a side take the row-by-row path: they touch at most 3 x 3 finest
 // blocks, where a descent would triage at least two levels of masks.
-constexpr int kSmallBoxSamples = 16;
+constexpr int kSmallBoxSamples = 32;
 constexpr int kSmallBoxBlocks = kSmallBoxSamples / 8 + 1;
 // Edge values a small box may hold: row sums stay below 2^31.
 constexpr int64_t kSmallEdgeLimit = int64_t(1) << 30;
@@ -136,6 +136,8 @@ SmallSetup small_edges(const ConvexPoly& poly, int32_t pitch, EdgeRows* rows, in
 
 }  // namespace
 
+bool write_mask_runs(uint64_t mask, int x, int y, CoverageWriter& writer) { return emit_mask(mask, x, y, 1, writer); }
+
 void poly_from_setup(const TriangleSetup& setup, ConvexPoly* out) {
   out->n = 3;
   for (int i = 0; i < 3; ++i) out->edge[i] = setup.edge[i];
@@ -143,6 +145,25 @@ void poly_from_setup(const TriangleSetup& setup, ConvexPoly* out) {
   out->min_y = setup.min_y;
   out->max_x = setup.max_x;
   out->max_y = setup.max_y;
+}
+
+void poly_in_samples(const ScreenTriangle& tri, const TriangleSetup& setup, int factor, int width,
+                     int height, ConvexPoly* out) {
+  poly_from_setup(setup, out);
+  if (factor == 1) return;
+  int32_t min_x = tri.v[0].x, max_x = min_x, min_y = tri.v[0].y, max_y = min_y;
+  for (int i = 1; i < 3; ++i) {
+    min_x = min_of(min_x, tri.v[i].x);
+    max_x = max_of(max_x, tri.v[i].x);
+    min_y = min_of(min_y, tri.v[i].y);
+    max_y = max_of(max_y, tri.v[i].y);
+  }
+  // Sample centres s * pitch + pitch / 2 inside [min, max], as setup_triangle does for pixels.
+  const int64_t pitch = kSubpixelOne / factor, half = pitch / 2;
+  out->min_x = int32_t(max_of<int64_t>(0, -div_floor(-(int64_t(min_x) - half), pitch)));
+  out->min_y = int32_t(max_of<int64_t>(0, -div_floor(-(int64_t(min_y) - half), pitch)));
+  out->max_x = int32_t(min_of<int64_t>(int64_t(width) * factor - 1, div_floor(int64_t(max_x) - half, pitch)));
+  out->max_y = int32_t(min_of<int64_t>(int64_t(height) * factor - 1, div_floor(int64_t(max_y) - half, pitch)));
 }
 
 TriageMask edge_triage_mask(const int64_t corner[4]) {
@@ -167,7 +188,6 @@ void HierTiler::init(Pyramid* pyramid, int32_t pitch, WorkImage* work, int work_
   pitch_ = pitch;
   work_ = work;
   work_row0_ = work_row0;
-  cells_visited = 0;
 }
 
 bool HierTiler::poly_mask(int level, const Edges& in, Edges* crossing, uint64_t* pc,
@@ -220,24 +240,63 @@ uint64_t HierTiler::exact_samples(const Edges& edges, uint64_t todo) const {
   return in;
 }
 
+// The work image is in pixels: a cell of samples counts for every pixel it touches.
 void HierTiler::add_work(int level, int mx, int my) {
   const int s = pyr_->layout.shift(level);
-  const int x0 = mx << s, y0 = work_row0_ + (my << s);
-  const int x1 = min_of(x0 + (1 << s), work_->width);
-  const int y1 = min_of(min_of(y0 + (1 << s), work_row0_ + pyr_->layout.height), work_->height);
+  const int f = kSubpixelOne / pitch_;  // samples per pixel per axis
+  const int x0 = (mx << s) / f, y0 = work_row0_ + ((my << s) / f);
+  const int x1 = min_of((((mx + 1) << s) + f - 1) / f, work_->width);
+  const int y1 = min_of(min_of(work_row0_ + (((my + 1) << s) + f - 1) / f, work_row0_ + pyr_->layout.height / f),
+                        work_->height);
   if (x1 <= x0 || y1 <= y0) return;
   const uint32_t add = uint32_t(65536 / (int64_t(x1 - x0) * (y1 - y0)));
   for (int y = y0; y < y1; ++y)
     for (int x = x0; x < x1; ++x) work_->q16[size_t(y) * size_t(work_->width) + size_t(x)] += add;
 }
 
+// The samples of a finest cell (edge values at its top-left corner in `in`) inside every edge, row by
+// row (EdgeRows), exactly. False when an edge's values are too large for 32-bit rows.
+bool HierTiler::block_samples(const Edges& in, uint64_t* out) const {
+  const int64_t half = pitch_ / 2, span = int64_t(pitch_) * 7;  // first to last sample centre
+  EdgeRows rows[kMaxPolyEdges];
+  int n = 0;
+  *out = 0;
+  for (int i = 0; i < in.n; ++i) {
+    const int64_t k0 = in.e[i] + (in.a[i] + in.b[i]) * half;
+    const int64_t k1 = k0 + in.a[i] * span, k2 = k0 + in.b[i] * span, k3 = k1 + in.b[i] * span;
+    const int64_t lo = min_of(min_of(k0, k1), min_of(k2, k3)), hi = max_of(max_of(k0, k1), max_of(k2, k3));
+    if (hi < 0) return true;
+    if (lo >= 0) continue;
+    if (-lo >= kSmallEdgeLimit || hi >= kSmallEdgeLimit) return false;
+    rows[n++].start(int32_t(k0), int32_t(in.a[i] * pitch_), int32_t(in.b[i] * pitch_));
+  }
+  for (int r = 0; r < 8; ++r) {
+    uint32_t row = 0xFF;
+    for (int i = 0; i < n; ++i) {
+      row &= rows[i].mask(0xFF);
+      rows[i].next_row();
+    }
+    *out |= uint64_t(row) << (8 * r);
+  }
+  return true;
+}
+
 bool HierTiler::tile_cell(int level, int mx, int my, const Edges& in, CoverageWriter& writer) {
   ++cells_visited;
   if (work_) add_work(level, mx, my);
+  const PyramidLayout& lay = pyr_->layout;
+  uint64_t cover;
+  if (level == lay.finest() && block_samples(in, &cover)) {
+    // Inside the box only: a split piece's box bounds its slivers (as the descent's exact tests do).
+    uint64_t& sc = pyr_->block(mx, my);
+    const uint64_t w = cover & ~sc & box_bits(level, mx, my);
+    if (w == 0) return true;
+    sc |= w;
+    return writer.write_block(w, mx << lay.shift(level), my << lay.shift(level));
+  }
   Edges act;
   uint64_t pc, pv;
   if (!poly_mask(level, in, &act, &pc, &pv)) return true;
-  const PyramidLayout& lay = pyr_->layout;
   const int s = lay.shift(level);
   if (level == lay.finest()) {
     uint64_t& sc = pyr_->block(mx, my);
@@ -246,7 +305,7 @@ bool HierTiler::tile_cell(int level, int mx, int my, const Edges& in, CoverageWr
     if (todo != 0) w |= exact_samples(act, todo);
     if (w == 0) return true;
     sc |= w;
-    return emit_mask(w, mx << s, my << s, 1, writer);
+    return writer.write_block(w, mx << s, my << s);
   }
   TriageMask& sm = pyr_->mask(level, mx, my);
   uint64_t w, a;
@@ -311,9 +370,9 @@ uint64_t HierTiler::box_bits(int level, int mx, int my) const {
   const int r0 = max_of(0, (by0_ >> sub) - my * 8), r1 = min_of(7, (by1_ >> sub) - my * 8);
   if (c0 > c1 || r0 > r1) return 0;
   const uint64_t row = ((uint64_t(2) << c1) - 1) & ~((uint64_t(1) << c0) - 1);
-  uint64_t rows = 0;
-  for (int r = r0; r <= r1; ++r) rows |= row << (8 * r);
-  return rows;
+  const uint64_t below_r1 = r1 == 7 ? kAll : (uint64_t(1) << (8 * r1 + 8)) - 1;
+  const uint64_t below_r0 = (uint64_t(1) << (8 * r0)) - 1;
+  return row * 0x0101010101010101u & below_r1 & ~below_r0;  // the row repeated on rows r0..r1
 }
 
 // Whether the polygon's box holds an uncovered sample inside this (not covered) cell: a descent
@@ -377,11 +436,12 @@ void HierTiler::propagate_up(int level, int mx, int my) {
   }
 }
 
-// Whether an ancestor of finest block (bx, by) is covered: its contents may then be stale.
-bool HierTiler::covered_above(int bx, int by) const {
+// Whether a cell's ancestor (a subcell of a coarser mask on its path) is covered: the cell's contents
+// may then be stale.
+bool HierTiler::covered_above(int level, int mx, int my) const {
   const PyramidLayout& lay = pyr_->layout;
-  const int x = bx << 3, y = by << 3;
-  for (int l = 0; l < lay.finest(); ++l) {
+  const int s0 = lay.shift(level), x = mx << s0, y = my << s0;  // in samples
+  for (int l = 0; l < level; ++l) {
     const int s = lay.shift(l), sub = s - 3;
     const uint64_t bit = uint64_t(1) << (((y >> sub) & 7) * 8 + ((x >> sub) & 7));
     if (pyr_->mask(l, x >> s, y >> s).c & bit) return true;
@@ -400,9 +460,20 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
   // Samples already covered in each touched block (all, when an ancestor is covered).
   uint64_t done[kSmallBoxBlocks][kSmallBoxBlocks];
   bool open = false;
+  // Blocks share their parent's ancestors (at most 2 x 2 parents): those are looked up once a parent.
+  int parent_x = -1, parent_y = -1;
+  bool parent_hidden = false;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
-      done[j][i] = covered_above(cx0 + i, cy0 + j) ? kAll : pyr_->block(cx0 + i, cy0 + j);
+      const int bx = cx0 + i, by = cy0 + j;
+      if ((bx >> 3) != parent_x || (by >> 3) != parent_y) {
+        parent_x = bx >> 3;
+        parent_y = by >> 3;
+        parent_hidden = covered_above(f - 1, parent_x, parent_y);
+      }
+      const uint64_t bit = uint64_t(1) << ((by & 7) * 8 + (bx & 7));
+      const bool hidden = parent_hidden || (pyr_->mask(f - 1, parent_x, parent_y).c & bit) != 0;
+      done[j][i] = hidden ? kAll : pyr_->block(bx, by);
       open = open || (box_bits(f, cx0 + i, cy0 + j) & ~done[j][i]) != 0;
     }
   *result = TileResult::Hidden;
@@ -435,7 +506,7 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
       if (w == 0) continue;
       pyr_->block(bx, by) |= w;
       propagate_up(f, bx, by);
-      if (!emit_mask(w, bx << 3, by << 3, 1, writer)) {
+      if (!writer.write_block(w, bx << 3, by << 3)) {
         *result = TileResult::Failed;
         return true;
       }
@@ -515,7 +586,7 @@ bool HierTiler::background_cell(int level, int mx, int my, CoverageWriter& write
     uint64_t& b = pyr_->block(mx, my);
     const uint64_t w = ~b;
     b = kAll;
-    return w == 0 || emit_mask(w, mx << s, my << s, 1, writer);
+    return w == 0 || writer.write_block(w, mx << s, my << s);
   }
   TriageMask& m = pyr_->mask(level, mx, my);
   if (m.v != 0 && !emit_mask(m.v, mx << s, my << s, 1 << (s - 3), writer)) return false;

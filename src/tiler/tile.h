@@ -35,12 +35,26 @@ struct ConvexPoly {
 // One-sample-per-pixel polygon of a set-up triangle.
 void poly_from_setup(const TriangleSetup& setup, ConvexPoly* out);
 
+// The polygon of a set-up triangle sampled factor x factor times a pixel (factor 1, 2, 4 or 8): the
+// same edges, the box in samples (width and height in pixels; sample pitch 256 / factor subpixels).
+void poly_in_samples(const ScreenTriangle& tri, const TriangleSetup& setup, int factor, int width,
+                     int height, ConvexPoly* out);
+
 // Receives every block of samples that tiling (or the background pass) newly covers. Each sample is
 // handed over at most once per frame. Returning false aborts the frame.
+class CoverageWriter;
+
+// Hands the set samples of an 8x8-sample mask at (x, y) to writer.write() as maximal runs per row,
+// identical consecutive rows merged into one block.
+bool write_mask_runs(uint64_t mask, int x, int y, CoverageWriter& writer);
+
 class CoverageWriter {
  public:
   virtual ~CoverageWriter() = default;
   virtual bool write(int x, int y, int w, int h) = 0;
+  // The newly covered samples of the 8x8-sample block at (x, y), as a mask (bit = row * 8 + col).
+  // Inline, so no translation unit owns the vtable (the core builds without RTTI, tests with it).
+  virtual bool write_block(uint64_t mask, int x, int y) { return write_mask_runs(mask, x, y, *this); }
 };
 
 // The triage mask of an edge crossing a square, from the edge's values at the corners in walk
@@ -65,8 +79,9 @@ enum class TileResult : uint8_t { Hidden, Tiled, Failed };
 
 class HierTiler {
  public:
-  // pitch: subpixels per sample. work: optional work image (same size as the screen, pitch 256);
-  // the pyramid's row 0 is its row work_row0 (the band's top row).
+  // pitch: subpixels per sample (256 / samples a pixel per axis). work: optional work image (pixels,
+  // the screen's size); the pyramid's row 0 is the top of its row work_row0 (the band's top row).
+  // cells_visited keeps counting across init calls (one frame, many bands).
   void init(Pyramid* pyramid, int32_t pitch, WorkImage* work, int work_row0 = 0);
 
   // Tiles one polygon, front to back: Hidden when the bounding-box test proves it invisible
@@ -101,9 +116,10 @@ class HierTiler {
   static bool edges_mask(const Edges& in, int64_t side, Edges* crossing, uint64_t* pc, uint64_t* pv);
   bool poly_mask(int level, const Edges& in, Edges* crossing, uint64_t* pc, uint64_t* pv) const;
   uint64_t exact_samples(const Edges& edges, uint64_t todo) const;
+  bool block_samples(const Edges& in, uint64_t* out) const;
   bool tile_cell(int level, int mx, int my, const Edges& in, CoverageWriter& writer);
   bool tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result);
-  bool covered_above(int bx, int by) const;
+  bool covered_above(int level, int mx, int my) const;
   bool query_cell(int level, int mx, int my, const Edges& in) const;
   bool background_cell(int level, int mx, int my, CoverageWriter& writer);
   bool start_cell(const ConvexPoly& poly, int* level, int* mx, int* my) const;

@@ -21,13 +21,33 @@ size_t bsp_stack_entries(const Scene& scene) {
   return scene.info ? size_t(scene.info->bsp_depth) + 1 : 1;
 }
 
+// Antialiasing (aa > 1): a pixel of the band sums the colours of its samples as pieces cover them,
+// front to back, so each sample counts once; the pixel leaves, packed once, when its last sample is
+// covered (by a piece or by the background). Sums stay below 64 * 255 < 2^16.
+struct PixelSum {
+  uint16_t r, g, b, samples;
+};
+
 // Turns newly covered sample blocks (band-local rows) into band-buffer writes of the current piece's
 // colours. Colours are computed on the first write, so hidden pieces cost no shading.
 class BandWriter : public CoverageWriter {
  public:
   BandWriter(BandOutput& out, Stats* stats, Pixel* row) : out_(out), stats_(stats), row_(row) {}
 
-  void begin_band(int top) { top_ = top; }
+  // Oversampling: factor x factor samples a pixel (a power of two), sums for a band of `width` pixels.
+  void oversample(int factor, PixelSum* sums, int width) {
+    factor_ = factor;
+    factor_bits_ = factor == 8 ? 6 : factor == 4 ? 4 : factor == 2 ? 2 : 0;
+    pixel_mask_ = 0;  // the samples of the top-left pixel of an 8x8-sample block
+    for (int r = 0; r < factor; ++r) pixel_mask_ |= ((uint64_t(1) << factor) - 1) << (8 * r);
+    sums_ = sums;
+    width_ = width;
+  }
+  void begin_band(int top, int rows) {
+    top_ = top;
+    if (factor_ > 1)
+      for (size_t i = 0; i < size_t(rows) * size_t(width_); ++i) sums_[i] = PixelSum{0, 0, 0, 0};
+  }
   void begin_piece(const Scene* scene, const Light* light, ShadingMode mode, uint32_t triangle,
                    bool front_facing) {
     scene_ = scene;
@@ -51,13 +71,40 @@ class BandWriter : public CoverageWriter {
   void clear_piece() { wrote_piece_ = false; }
 
   bool write(int x, int band_y, int w, int h) override {
-    const int y = band_y + top_;
     wrote_piece_ = true;
     if (!shaded_) {
       shade_triangle(*scene_, *light_, mode_, triangle_, front_facing_, &colors_);
       shaded_ = true;
       ++stats_->shading_calls;
     }
+    if (factor_ > 1) {
+      add_samples(x, band_y, w, h);
+      return true;
+    }
+    return write_pixels(x, band_y, w, h);
+  }
+
+  bool write_block(uint64_t mask, int x, int band_y) override {
+    if (factor_ == 1) return CoverageWriter::write_block(mask, x, band_y);
+    wrote_piece_ = true;
+    if (!shaded_) {
+      shade_triangle(*scene_, *light_, mode_, triangle_, front_facing_, &colors_);
+      shaded_ = true;
+      ++stats_->shading_calls;
+    }
+    // The block holds (8 / f)^2 pixels of f x f samples each.
+    const int f = factor_, per_side = 8 / f;
+    for (int j = 0; j < per_side; ++j)
+      for (int i = 0; i < per_side; ++i) {
+        const uint64_t m = mask & (pixel_mask_ << (j * f * 8 + i * f));
+        if (m != 0) add_to_pixel(x / f + i, band_y / f + j, uint32_t(__builtin_popcountll(m)));
+      }
+    return true;
+  }
+
+ private:
+  bool write_pixels(int x, int band_y, int w, int h) {
+    const int y = band_y + top_;
     stats_->pixel_writes += uint64_t(w) * uint64_t(h);
     if (!colors_.smooth) {
       out_.fill(x, y, w, h, colors_.flat);
@@ -91,9 +138,60 @@ class BandWriter : public CoverageWriter {
   }
 
  private:
+  // Colour of the current piece (or the background) at pixel (px, py) of the frame.
+  Pixel color_at(int px, int py) {
+    if (!colors_.smooth) return colors_.flat;
+    if (!planes_ready_) {
+      make_color_planes(*part_, colors_, &planes_);
+      planes_ready_ = true;
+    }
+    ++stats_->shading_calls;
+    uint32_t ch[3];
+    for (int c = 0; c < 3; ++c) ch[c] = uint32_t(clamp_to(planes_.channel[c].at(px, py), 0, 255));
+    return rgb(ch[0], ch[1], ch[2]);
+  }
+
+  // Samples [x, x + w) x [band_y, band_y + h) newly covered with the current colour. A pixel covered
+  // whole by one write had none of its samples covered before (each is handed over once): it leaves
+  // at once, without sums (coarse cells and the background are such writes).
+  void add_samples(int x, int band_y, int w, int h) {
+    const int f = factor_;
+    if (((x | band_y | w | h) & (f - 1)) == 0) {
+      write_pixels(x / f, band_y / f, w / f, h / f);
+      return;
+    }
+    for (int py = band_y / f; py <= (band_y + h - 1) / f; ++py) {
+      const uint32_t ny = uint32_t(min_of(band_y + h, (py + 1) * f) - max_of(band_y, py * f));
+      for (int px = x / f; px <= (x + w - 1) / f; ++px)
+        add_to_pixel(px, py, ny * uint32_t(min_of(x + w, (px + 1) * f) - max_of(x, px * f)));
+    }
+  }
+
+  // n more samples of pixel (px, band row py) in the current colour.
+  void add_to_pixel(int px, int py, uint32_t n) {
+    const Pixel c = color_at(px, py + top_);
+    PixelSum& s = sums_[size_t(py) * size_t(width_) + size_t(px)];
+    s.r = uint16_t(s.r + ((c >> 16) & 0xFF) * n);
+    s.g = uint16_t(s.g + ((c >> 8) & 0xFF) * n);
+    s.b = uint16_t(s.b + (c & 0xFF) * n);
+    s.samples = uint16_t(s.samples + n);
+    if (s.samples == uint32_t(factor_ * factor_)) finish_pixel(px, py + top_, s);
+  }
+
+  // The box filter: the mean of the pixel's samples, rounded.
+  void finish_pixel(int px, int py, const PixelSum& s) {
+    const uint32_t half = (1u << factor_bits_) >> 1;
+    out_.fill(px, py, 1, 1,
+              rgb((s.r + half) >> factor_bits_, (s.g + half) >> factor_bits_, (s.b + half) >> factor_bits_));
+    ++stats_->pixel_writes;
+  }
+
   BandOutput& out_;
   Stats* stats_;
   Pixel* row_;
+  int factor_ = 1, factor_bits_ = 0, width_ = 0;
+  uint64_t pixel_mask_ = 0;
+  PixelSum* sums_ = nullptr;
   int top_ = 0;
   const Scene* scene_ = nullptr;
   const Light* light_ = nullptr;
@@ -136,7 +234,8 @@ int64_t split_tolerance(const View& view, const ScreenVertex& p, const ScreenVer
   return clamp_to<int64_t>((3 * view.focal_q8 << kViewFractionBits) / z, 2, kSubpixelHalf);
 }
 
-void clip_to_triangle(const View& view, const ScreenTriangle& part, const TriangleSetup& whole,
+// whole: the triangle's polygon and box in samples; grow: samples a pixel; width, height: samples.
+void clip_to_triangle(const View& view, const ScreenTriangle& part, const ConvexPoly& whole, int grow,
                       int width, int height, ConvexPoly* poly) {
   int along[3];
   int used = 0;  // bit k: some piece edge runs along triangle edge k
@@ -157,10 +256,10 @@ void clip_to_triangle(const View& view, const ScreenTriangle& part, const Triang
   for (int i = 0; i < 3; ++i)
     if (along[i] < 0) out.edge[out.n++] = poly->edge[i];
   for (int k = 0; k < 3; ++k) out.edge[out.n++] = whole.edge[k];
-  out.min_x = max_of(poly->min_x - 1, max_of(whole.min_x, 0));
-  out.min_y = max_of(poly->min_y - 1, max_of(whole.min_y, 0));
-  out.max_x = min_of(poly->max_x + 1, min_of(whole.max_x, width - 1));
-  out.max_y = min_of(poly->max_y + 1, min_of(whole.max_y, height - 1));
+  out.min_x = max_of(poly->min_x - grow, max_of(whole.min_x, 0));
+  out.min_y = max_of(poly->min_y - grow, max_of(whole.min_y, 0));
+  out.max_x = min_of(poly->max_x + grow, min_of(whole.max_x, width - 1));
+  out.max_y = min_of(poly->max_y + grow, min_of(whole.max_y, height - 1));
   *poly = out;
 }
 
@@ -267,14 +366,16 @@ void box_screen_rect(const View& view, const ViewBox& box, int32_t* x0, int32_t*
 // The rows of the screen one band covers: the pyramid holds only these, and polygons are moved into
 // band-local rows (E(x, y + top) folds top into c, so coverage is the screen's exactly).
 struct BandRows {
-  int top = 0, rows = 0;
+  int top = 0, rows = 0;  // pixels
+  int factor = 1;         // samples a pixel per axis
 
-  // Moves a screen-space polygon into the band; false when it has no row there.
+  // Moves a screen-space polygon (box in samples) into the band; false when it has no row there.
   bool clip(ConvexPoly* poly) const {
-    if (poly->max_y < top || poly->min_y >= top + rows || poly->min_x > poly->max_x) return false;
+    const int first = top * factor, count = rows * factor;
+    if (poly->max_y < first || poly->min_y >= first + count || poly->min_x > poly->max_x) return false;
     for (int i = 0; i < poly->n; ++i) poly->edge[i].c += poly->edge[i].b * (int64_t(top) * kSubpixelOne);
-    poly->min_y = max_of(poly->min_y - top, 0);
-    poly->max_y = min_of(poly->max_y - top, rows - 1);
+    poly->min_y = max_of(poly->min_y - first, 0);
+    poly->max_y = min_of(poly->max_y - first, count - 1);
     return true;
   }
 };
@@ -287,18 +388,35 @@ bool subtree_hidden(const View& view, const BandRows& band, const BspNode& node,
   if (!view_box(view, node, &vbox)) return false;
   // Most subtrees lie outside most bands: that is decided without a division.
   if (box_outside_rows(view, vbox, band.top, band.top + band.rows)) return true;
+  int32_t x0, y0, x1, y1;  // pixels
+  box_screen_rect(view, vbox, &x0, &y0, &x1, &y1);
+  x0 = max_of(x0, 0);
+  x1 = min_of(x1, view.width - 1);
+  if (y1 < band.top || y0 >= band.top + band.rows) return true;
+  y0 = max_of(y0 - band.top, 0);
+  y1 = min_of(y1 - band.top, band.rows - 1);
+  const int f = band.factor;  // to band samples
   ConvexPoly box;
-  box_screen_rect(view, vbox, &box.min_x, &box.min_y, &box.max_x, &box.max_y);
-  box.min_x = max_of(box.min_x, 0);
-  box.max_x = min_of(box.max_x, view.width - 1);
-  if (box.max_y < band.top || box.min_y >= band.top + band.rows) return true;
-  box.min_y = max_of(box.min_y - band.top, 0);
-  box.max_y = min_of(box.max_y - band.top, band.rows - 1);
+  box.min_x = x0 * f;
+  box.max_x = x1 * f + f - 1;
+  box.min_y = y0 * f;
+  box.max_y = y1 * f + f - 1;
   return !tiler.box_visible(box);  // false for an empty (off-screen) box too
 }
 
+// Samples a pixel per axis: options.aa, except for ids, which are point-sampled at pixel centres.
+int sample_factor(const RenderOptions& options) {
+  return options.shading == ShadingMode::Ids ? 1 : options.aa;
+}
+
+// Arena bytes of the antialiasing sums of one band.
+size_t sums_arena_bytes(int factor, int width, int rows) {
+  return factor > 1 ? arena_worst_case(sizeof(PixelSum) * size_t(width) * size_t(rows), alignof(PixelSum)) : 0;
+}
+
 Status check_options(const Camera& camera, const RenderOptions& options) {
-  if (options.aa != 1) return error(StatusCode::Unsupported, "the tiler point-samples (aa must be 1)");
+  if (options.aa != 1 && options.aa != 2 && options.aa != 4 && options.aa != 8)
+    return error(StatusCode::Unsupported, "the tiler takes 1, 2, 4 or 8 samples a pixel per axis (aa)");
   if (options.shading == ShadingMode::Lines)
     return error(StatusCode::Unsupported, "the tiler has no hidden-line mode (use the scanline renderer)");
   if (camera.width < 1 || camera.height < 1 || camera.width > kMaxScreenDim ||
@@ -310,9 +428,10 @@ Status check_options(const Camera& camera, const RenderOptions& options) {
   return BandOutput::check(options.output);
 }
 
-// Pyramid layout of one band (the last band may be lower than the others).
-bool band_layout(int width, int rows, PyramidLayout* out) {
-  return make_pyramid_layout(clamp_to(width, 1, kMaxScreenDim), clamp_to(rows, 1, kMaxScreenDim), out);
+// Pyramid layout of one band (the last band may be lower than the others), in samples.
+bool band_layout(int width, int rows, int factor, PyramidLayout* out) {
+  return make_pyramid_layout(clamp_to(width, 1, kMaxScreenDim) * factor,
+                             clamp_to(rows, 1, kMaxScreenDim) * factor, out);
 }
 
 // One frame: the BSP walked front to back once per band, each band's pyramid rebuilt in the same
@@ -362,6 +481,12 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
   light_ = make_light(view_);
   BandWriter writer(out_, st_, row);
   writer_ = &writer;
+  band_.factor = sample_factor(options_);
+  if (band_.factor > 1) {
+    PixelSum* sums = arena.allocate_array<PixelSum>(size_t(camera_.width) * size_t(out_.band_rows()));
+    if (!sums) return finish(error(StatusCode::ArenaTooSmall, "arena too small", need), arena);
+    writer.oversample(band_.factor, sums, camera_.width);
+  }
   st_->bsp_nodes = scene_.bsp_node_count;
   st_->bsp_pieces = scene_.bsp_piece_count;
   for (int band = 0; band < out_.band_count(); ++band) {
@@ -377,15 +502,13 @@ Status TilerFrame::render_band(int band, Arena& arena) {
   band_.top = out_.band_top(band);
   band_.rows = out_.band_height(band);
   PyramidLayout layout;
-  band_layout(camera_.width, band_.rows, &layout);
+  band_layout(camera_.width, band_.rows, band_.factor, &layout);
   const size_t mark = arena.mark();
   if (!pyramid_.allocate(layout, arena)) return error(StatusCode::ArenaTooSmall, "arena too small");
   pyramid_.clear();
   st_->pyramid_bytes = max_of(st_->pyramid_bytes, layout.bytes());
-  const uint64_t cells = tiler_.cells_visited;
-  tiler_.init(&pyramid_, kSubpixelOne, options_.work, band_.top);
-  tiler_.cells_visited = cells;
-  writer_->begin_band(band_.top);
+  tiler_.init(&pyramid_, kSubpixelOne / band_.factor, options_.work, band_.top);
+  writer_->begin_band(band_.top, band_.rows);
   s = walk_bsp();
   if (!s.ok()) return s;
   writer_->begin_background(options_.shading == ShadingMode::Ids ? 0 : options_.background);
@@ -464,10 +587,11 @@ Status TilerFrame::draw_piece(const BspPiece& piece) {
   const int n = project_triangle(view_, world, facing, parts);
   writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0);
   for (int i = 0; i < n; ++i) {
+    const int f = band_.factor;
     TriangleSetup setup;
     setup_triangle(parts[i], camera_.width, camera_.height, &setup);
     ConvexPoly poly;
-    poly_from_setup(setup, &poly);
+    poly_in_samples(parts[i], setup, f, camera_.width, camera_.height, &poly);
     ConvexPoly in_band = poly;
     if (!band_.clip(&in_band)) continue;
     if (n == 1 && split && tiler_.box_visible(in_band)) {
@@ -475,7 +599,9 @@ Status TilerFrame::draw_piece(const BspPiece& piece) {
       if (project_triangle(view_, whole_world, facing, whole) == 1) {
         TriangleSetup whole_setup;
         setup_triangle(whole[0], camera_.width, camera_.height, &whole_setup);
-        clip_to_triangle(view_, parts[0], whole_setup, camera_.width, camera_.height, &poly);
+        ConvexPoly whole_poly;
+        poly_in_samples(whole[0], whole_setup, f, camera_.width, camera_.height, &whole_poly);
+        clip_to_triangle(view_, parts[0], whole_poly, f, camera_.width * f, camera_.height * f, &poly);
         in_band = poly;
         if (!band_.clip(&in_band)) continue;
       }
@@ -493,8 +619,9 @@ Status TilerFrame::draw_piece(const BspPiece& piece) {
 size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
   PyramidLayout layout;
   const int width = clamp_to(camera.width, 1, kMaxScreenDim), height = clamp_to(camera.height, 1, kMaxScreenDim);
-  if (!band_layout(width, band_rows_for(options.output, height), &layout)) return 0;
-  return Pyramid::arena_bytes(layout) +
+  const int rows = band_rows_for(options.output, height), factor = clamp_to(sample_factor(options), 1, kMaxTilerAa);
+  if (!band_layout(width, rows, factor, &layout)) return 0;
+  return Pyramid::arena_bytes(layout) + sums_arena_bytes(factor, width, rows) +
          arena_worst_case(sizeof(BspFrame) * bsp_stack_entries(scene), 4) +
          arena_worst_case(sizeof(Pixel) * kRowPixels, 4) +
          BandOutput::arena_bytes(options.output, width, height);
@@ -506,7 +633,7 @@ Status tiler_render(const Scene& scene, const Camera& camera, const RenderOption
   Stats* st = stats ? stats : &local;
   st->width = uint32_t(camera.width);
   st->height = uint32_t(camera.height);
-  st->samples_per_pixel = 1;
+  st->samples_per_pixel = uint32_t(sample_factor(options) * sample_factor(options));
   st->triangles_in = scene.triangle_count;
   Status status = check_options(camera, options);
   if (!status.ok()) return status;

@@ -52,7 +52,10 @@ TEST(Pyramid, OtherSizesStoreOnlyUsedMasks) {
     // Every finest block holds at least one on-screen sample.
     EXPECT_EQ(uint64_t(l.block_count), uint64_t((w + 7) / 8) * uint64_t((h + 7) / 8));
   }
-  EXPECT_FALSE(ml::make_pyramid_layout(4097, 10, &l));
+  // Up to kMaxSampleDim samples a side (4096 pixels at 8 x 8 samples): five levels.
+  ASSERT_TRUE(ml::make_pyramid_layout(ml::kMaxSampleDim, 10, &l));
+  EXPECT_EQ(l.levels, 5);
+  EXPECT_FALSE(ml::make_pyramid_layout(ml::kMaxSampleDim + 1, 10, &l));
   EXPECT_FALSE(ml::make_pyramid_layout(10, 0, &l));
 }
 

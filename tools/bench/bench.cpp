@@ -25,6 +25,7 @@
 #include "core/arena.h"
 #include "platform/host/format_names.h"
 #include "platform/host/scene_load.h"
+#include "tools/bench/bench.h"
 #include "render/render.h"
 #include "shade/shade.h"
 #include "tools/scenec/scenec.h"
@@ -229,7 +230,8 @@ ml::Status zbuffer_render(const ml::Scene& scene, const ml::Camera& camera, ml::
 int usage() {
   fprintf(stderr,
           "usage: bench prepare default|office[:LAYERS]|tessellated[:TRIANGLES]|FILE OUT.mls\n"
-          "       bench frame SCENE.mls tiler|scanline|zbuffer WxH AA [flat|gouraud] [BAND_ROWS [FORMAT]]\n");
+          "       bench frame SCENE.mls tiler|scanline|zbuffer WxH AA [flat|gouraud] [BAND_ROWS [FORMAT]]\n"
+          "       bench quality SCENE.mls WxH\n");
   return 2;
 }
 
@@ -278,18 +280,7 @@ int frame(const std::string& path, const std::string& renderer, const std::strin
     return 1;
   }
   const ml::Scene& scene = loaded.scene;
-  const ml::SceneInfo& info = *scene.info;
-  ml::Camera camera = ml::frame_sphere(ml::Vec3i{info.sphere_center[0], info.sphere_center[1], info.sphere_center[2]},
-                                       info.sphere_radius, w, h, 45 << 16);
-  std::ifstream cam_file(path + ".camera");
-  long long e[9];
-  if (cam_file && (cam_file >> e[0] >> e[1] >> e[2] >> e[3] >> e[4] >> e[5] >> e[6] >> e[7] >> e[8])) {
-    camera.eye = ml::Vec3i{int32_t(e[0]), int32_t(e[1]), int32_t(e[2])};
-    camera.target = ml::Vec3i{int32_t(e[3]), int32_t(e[4]), int32_t(e[5])};
-    camera.up = ml::Vec3i{int32_t(e[6]), int32_t(e[7]), int32_t(e[8])};
-    if (camera.up.x == 0 && camera.up.y == 0 && camera.up.z == 0) camera.up = ml::Vec3i{0, 1, 0};
-    camera.near = std::max(16, info.sphere_radius / 1024);
-  }
+  const ml::Camera camera = bench_camera(path, scene, w, h);
   DiscardSink sink;
   ml::Stats stats;
   ml::Status s;
@@ -341,7 +332,26 @@ int frame(const std::string& path, const std::string& renderer, const std::strin
 
 }  // namespace
 
+// The bench's camera for a compiled scene: the CLI's default framing of the bounding sphere, or the
+// eye, target and up that `prepare` saved beside the blob (SCENE.mls.camera) for a glTF camera.
+ml::Camera bench_camera(const std::string& path, const ml::Scene& scene, int w, int h) {
+  const ml::SceneInfo& info = *scene.info;
+  ml::Camera camera = ml::frame_sphere(ml::Vec3i{info.sphere_center[0], info.sphere_center[1], info.sphere_center[2]},
+                                       info.sphere_radius, w, h, 45 << 16);
+  std::ifstream cam_file(path + ".camera");
+  long long e[9];
+  if (cam_file && (cam_file >> e[0] >> e[1] >> e[2] >> e[3] >> e[4] >> e[5] >> e[6] >> e[7] >> e[8])) {
+    camera.eye = ml::Vec3i{int32_t(e[0]), int32_t(e[1]), int32_t(e[2])};
+    camera.target = ml::Vec3i{int32_t(e[3]), int32_t(e[4]), int32_t(e[5])};
+    camera.up = ml::Vec3i{int32_t(e[6]), int32_t(e[7]), int32_t(e[8])};
+    if (camera.up.x == 0 && camera.up.y == 0 && camera.up.z == 0) camera.up = ml::Vec3i{0, 1, 0};
+    camera.near = std::max(16, info.sphere_radius / 1024);
+  }
+  return camera;
+}
+
 int main(int argc, char** argv) {
+  if (argc == 4 && strcmp(argv[1], "quality") == 0) return quality(argv[2], argv[3]);
   if (argc == 4 && strcmp(argv[1], "prepare") == 0) return prepare(argv[2], argv[3]);
   if (argc >= 6 && argc <= 9 && strcmp(argv[1], "frame") == 0) {
     const int aa = atoi(argv[5]);

@@ -100,6 +100,10 @@ for name in engine office default duck; do
     measure "$name" tiler "$size" 1
   done
 done
+echo "bench: tiler at 8x8 samples a pixel (box filter)"
+for name in engine default; do
+  [ -f "$work/$name.mls" ] && measure "$name" tiler 320x240 8
+done
 echo "bench: scanline at 1x1, 3x3, 4x4"
 for name in engine tessellated default duck; do
   [ -f "$work/$name.mls" ] || continue
@@ -125,6 +129,9 @@ for name in engine tessellated default duck; do
   done
 done
 notes+=("- engine 320x240, scanline 1x1 / tiler: $(ratio "${all_ir[engine.scanline.320x240.1]:-}" "${all_ir[engine.tiler.320x240.1]:-}")")
+for name in engine default; do
+  [ -n "${all_ir[$name.tiler.320x240.8]:-}" ] && notes+=("- $name 320x240, tiler 8x8 / 1x1: $(ratio "${all_ir[$name.tiler.320x240.8]}" "${all_ir[$name.tiler.320x240.1]:-}")")
+done
 for name in default duck engine; do
   [ -n "${per_tiled_ir[$name.320x240]:-}" ] && notes+=("- $name 320x240, tiler instructions per tiled triangle (frame / Stats::triangles_tiled): ${per_tiled_ir[$name.320x240]}")
 done
@@ -149,3 +156,4 @@ write_doc_section bench "Instructions per frame" "$section"
 echo "bench: table written to $doc"
 bash tools/bench/bands.sh "$build" "$work"
 echo "bench: display tables written to $doc"
+bash tools/bench/quality.sh "$build" "$work"

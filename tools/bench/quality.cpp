@@ -1,0 +1,109 @@
+// bench quality: how close each renderer's antialiased picture comes to a reference. The reference
+// is the double-precision oracle (tests/oracle) casting 16 x 16 rays a pixel, box-filtered; renders
+// use unlit base colours, so only coverage (visibility and filtering) makes the difference. Prints
+// one line a renderer and sample count: RMS and largest error per channel (0..255).
+#include <stdio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/arena.h"
+#include "platform/host/image_sink.h"
+#include "platform/host/scene_load.h"
+#include "render/render.h"
+#include "tests/oracle/oracle.h"
+#include "tests/oracle/scene_triangles.h"
+#include "tools/bench/bench.h"
+
+namespace {
+
+constexpr int kReferenceSamples = 16;  // rays a pixel per axis
+constexpr ml::Pixel kBackground = 0x202830;
+
+int channel(uint32_t p, int c) { return int(p >> (16 - 8 * c)) & 0xFF; }
+
+ml::Pixel base_colour(const ml::Scene& scene, int64_t id) {
+  if (id < 0) return kBackground;
+  const ml::Material& m = scene.materials[scene.batches[scene.triangles[id].batch].material];
+  return ml::rgb(m.base_color[0], m.base_color[1], m.base_color[2]);
+}
+
+// Per pixel and channel, the mean of the reference rays' base colours.
+std::vector<double> reference(const ml::Scene& scene, const ml::Camera& camera) {
+  oracle::Camera c = oracle::to_oracle_camera(camera);
+  c.width *= kReferenceSamples;
+  c.height *= kReferenceSamples;
+  const oracle::Result ref = oracle::rasterize(oracle::scene_triangles(scene), c);
+  std::vector<double> out(size_t(camera.width) * size_t(camera.height) * 3, 0.0);
+  const double weight = 1.0 / (kReferenceSamples * kReferenceSamples);
+  for (int y = 0; y < ref.height; ++y)
+    for (int x = 0; x < ref.width; ++x) {
+      const ml::Pixel p = base_colour(scene, ref.id[ref.index(x, y)]);
+      const size_t i = size_t(y / kReferenceSamples) * size_t(camera.width) + size_t(x / kReferenceSamples);
+      for (int k = 0; k < 3; ++k) out[i * 3 + size_t(k)] += channel(p, k) * weight;
+    }
+  return out;
+}
+
+bool render_unlit(const ml::Scene& scene, const ml::Camera& camera, ml::RendererKind renderer, int aa,
+                  std::vector<ml::Pixel>* pixels) {
+  ml::RenderOptions o;
+  o.renderer = renderer;
+  o.shading = ml::ShadingMode::Unlit;
+  o.aa = aa;
+  o.background = kBackground;
+  const size_t bytes = ml::render_arena_bytes(scene, camera, o);
+  std::vector<uint64_t> storage(bytes / 8 + 1);
+  ml::Arena arena(storage.data(), bytes);
+  mlhost::ImageSink sink;
+  const ml::Status s = ml::render(scene, camera, o, arena, sink, nullptr);
+  if (!s.ok() || !sink.contract_ok()) {
+    fprintf(stderr, "bench quality: render failed: %s\n", s.ok() ? sink.contract_error().c_str() : s.message);
+    return false;
+  }
+  *pixels = sink.pixels();
+  return true;
+}
+
+}  // namespace
+
+int quality(const std::string& path, const std::string& size) {
+  int w = 0, h = 0;
+  if (sscanf(size.c_str(), "%dx%d", &w, &h) != 2 || w < 1 || h < 1 || w > 1024 || h > 1024) {
+    fprintf(stderr, "bench quality: size must be WxH, 1..1024 each\n");
+    return 2;
+  }
+  mlhost::LoadedScene loaded;
+  std::string error;
+  if (!mlhost::load_scene(path, &loaded, &error)) {
+    fprintf(stderr, "bench quality: %s\n", error.c_str());
+    return 1;
+  }
+  const ml::Scene& scene = loaded.scene;
+  const ml::Camera camera = bench_camera(path, scene, w, h);
+  const std::vector<double> ref = reference(scene, camera);
+  const struct {
+    ml::RendererKind kind;
+    const char* name;
+    int aa;
+  } runs[] = {{ml::RendererKind::Tiler, "tiler", 1},       {ml::RendererKind::Tiler, "tiler", 2},
+              {ml::RendererKind::Tiler, "tiler", 4},       {ml::RendererKind::Tiler, "tiler", 8},
+              {ml::RendererKind::Scanline, "scanline", 1}, {ml::RendererKind::Scanline, "scanline", 3},
+              {ml::RendererKind::Scanline, "scanline", 4}};
+  for (const auto& run : runs) {
+    std::vector<ml::Pixel> pixels;
+    if (!render_unlit(scene, camera, run.kind, run.aa, &pixels)) return 1;
+    double sum = 0, worst = 0;
+    for (size_t i = 0; i < pixels.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const double d = std::fabs(channel(pixels[i], k) - ref[i * 3 + size_t(k)]);
+        sum += d * d;
+        worst = std::max(worst, d);
+      }
+    printf("renderer=%s aa=%d size=%dx%d rms=%.3f max=%.1f\n", run.name, run.aa, w, h,
+           std::sqrt(sum / double(pixels.size() * 3)), worst);
+  }
+  return 0;
+}
