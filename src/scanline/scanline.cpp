@@ -125,6 +125,14 @@ bool step_span(ActiveTri* t, const Lattice& lat, int32_t y, int32_t* min_x, int3
   return true;
 }
 
+// The plane (no fill rule) of the edge opposite vertex j, v_{j+1} -> v_{j+2}: vertex j's barycentric
+// weight times area2.
+static inline EdgeFunction opposite_plane(const ActiveTri& t, int j) {
+  const int p = j == 2 ? 0 : j + 1;
+  const int q = p == 2 ? 0 : p + 1;
+  return edge_plane(t.vx[p], t.vy[p], t.vx[q], t.vy[q]);
+}
+
 static inline int64_t triangle_area2(const ActiveTri& t) {
   return (int64_t(t.vx[1]) - t.vx[0]) * (int64_t(t.vy[2]) - t.vy[0]) -
          (int64_t(t.vy[1]) - t.vy[0]) * (int64_t(t.vx[2]) - t.vx[0]);
@@ -144,14 +152,11 @@ void depth_plane(ActiveTri* t, const uint32_t depth[3], const Lattice& lat) {
   // all over area2 * den, times 2^16 (Q16).
   int64_t d[3], cz[3], ca[3], cb[3];
   for (int j = 0; j < 3; ++j) {
-    const int p = j == 2 ? 0 : j + 1;
-    const int q = p == 2 ? 0 : p + 1;
-    const int64_t a = int64_t(t->vy[p]) - t->vy[q];
-    const int64_t b = int64_t(t->vx[q]) - t->vx[p];
+    const EdgeFunction e = opposite_plane(*t, j);
     d[j] = depth[j];
-    ca[j] = a;
-    cb[j] = b;
-    cz[j] = a * (lat.ox - int64_t(t->vx[p]) * lat.den) + b * (lat.oy - int64_t(t->vy[p]) * lat.den);
+    ca[j] = e.a;
+    cb[j] = e.b;
+    cz[j] = lattice_row(e, lat, 0).r;  // E * den at sample (0, 0)
   }
   const int64_t den = triangle_area2(*t) * lat.den;
   t->z_row = mul_add3_div_round_low(d, cz, 16, den);
@@ -164,14 +169,10 @@ uint32_t weight_reciprocal(const ActiveTri& t, const Lattice& lat) {
 }
 
 void sample_weights(const ActiveTri& t, const Lattice& lat, int32_t x, int32_t y, int32_t w[3]) {
-  const int64_t u = int64_t(x) * kSubpixelOne + lat.ox, v = int64_t(y) * kSubpixelOne + lat.oy;
-  int64_t e[3];  // e[j]: unbiased edge function opposite vertex j (edge j + 1), scaled by den
+  int64_t e[3];  // e[j]: the plane of the edge opposite vertex j at the sample, scaled by den
   for (int j = 1; j < 3; ++j) {
-    const int p = j == 2 ? 0 : j + 1;
-    const int q = p == 2 ? 0 : p + 1;
-    const int64_t a = int64_t(t.vy[p]) - t.vy[q];
-    const int64_t b = int64_t(t.vx[q]) - t.vx[p];
-    e[j] = a * (u - int64_t(t.vx[p]) * lat.den) + b * (v - int64_t(t.vy[p]) * lat.den);
+    const LatticeEdge r = lattice_row(opposite_plane(t, j), lat, y);
+    e[j] = r.k * x + r.r;
     if (e[j] < 0) e[j] = 0;  // not at a covered sample; kept in range
   }
   // At a covered sample the three are >= 0 and sum to area2 * den (the edge functions of a triangle
