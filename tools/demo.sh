@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# make demo: renders the bundled scene with both renderers (and 2CylinderEngine when Debian's
-# assimp-testmodels is installed) into out/, prints each frame's statistics, and says where the
+# make demo: renders the bundled scene with both renderers (and 2CylinderEngine and the textured
+# BoxTextured when Debian's assimp-testmodels is installed, and the textured banded scene) into out/, prints each frame's statistics, and says where the
 # pictures are. Usage: tools/demo.sh BUILD
 set -euo pipefail
 build=${1:-build}
@@ -34,6 +34,21 @@ if [ -f "$engine" ]; then
 else
   echo "== 2CylinderEngine skipped: $engine not installed (Debian package assimp-testmodels)"
 fi
+
+# Textures (docs/textures.md): a textured model, and the banded scene whose four textures the pager
+# loads when their first row is reached and frees after their last.
+boxtex=/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb
+if [ -f "$boxtex" ]; then
+  render "BoxTextured (textured model), tiler" "$boxtex" --size 640x480 -o "$out/boxtextured-tiler.png"
+  render "BoxTextured, scanline, 3x3 samples per pixel" "$boxtex" --renderer scanline --aa 3 --size 640x480 \
+    -o "$out/boxtextured-scanline-aa3.png"
+else
+  echo "== BoxTextured skipped: $boxtex not installed (Debian package assimp-testmodels)"
+fi
+render "banded scene (four textures, lazy pager), scanline" builtin:banded --renderer scanline --size 640x480 \
+  --eye 0.4,0.3,5.6 --target 0,0,0 -o "$out/banded-scanline.png"
+render "banded scene, scanline, texture pool of the largest texture only (same image, reloads)" builtin:banded \
+  --renderer scanline --size 640x480 --eye 0.4,0.3,5.6 --target 0,0,0 --texture-pool 8208 -o "$out/banded-small-pool.png"
 
 # The emulated panels decode the exact bytes each panel would receive on its bus.
 show() {

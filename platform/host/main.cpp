@@ -20,6 +20,7 @@
 #include "core/band.h"
 #include "core/pixel_format.h"
 #include "platform/host/displays.h"
+#include "platform/host/file_texture_source.h"
 #include "platform/host/format_names.h"
 #include "platform/host/image_sink.h"
 #include "platform/host/png_io.h"
@@ -27,6 +28,7 @@
 #include "platform/host/scene_load.h"
 #include "platform/host/stats_json.h"
 #include "render/render.h"
+#include "texture/pager.h"
 #include "tools/scenec/scenec.h"
 #include "view/view.h"
 
@@ -57,17 +59,23 @@ const char* const kMainHelp =
     "scene is used. Exit codes: 0 ok, 1 read or render failure, 2 bad usage.\n";
 
 const char* const kCompileHelp =
-    "usage: maskline compile IN.glb|IN.gltf -o OUT.mls\n"
+    "usage: maskline compile IN.glb|IN.gltf -o OUT.mls [--texture-format F] [--texture-max N]\n"
     "\n"
     "Compiles a glTF 2.0 file into a scene blob (.mls): every node of the default scene with its\n"
-    "transform, triangle primitives, materials, a BSP tree. Prints a summary; warnings go to stderr.\n";
+    "transform, triangle primitives, materials, textures, a BSP tree. Prints a summary; warnings go to\n"
+    "stderr.\n"
+    "  --texture-format F   auto (default: grey4 for grey images of <= 16 levels, palette8 for <= 256\n"
+    "                       colours, else rgb565), rgb565, palette8 (median cut), grey4\n"
+    "  --texture-max N      longest texture side after resampling to powers of two, 1..1024 (default 256)\n";
 
 const char* const kInfoHelp =
     "usage: maskline info [SCENE] [--size WxH] [--aa N] [--renderer tiler|scanline]\n"
     "\n"
     "Prints triangles, nodes, materials, bounds (world and glTF units), the BSP (nodes, pieces, split\n"
     "ratio) and the arena bytes a render at --size (default 320x240) needs, for both renderers or the\n"
-    "one given. --aa: samples per pixel per axis (the tiler takes 1, 2, 4 or 8; ids are point-sampled).\n";
+    "one given. --aa: samples per pixel per axis (the tiler takes 1, 2, 4 or 8; ids are point-sampled).\n"
+    "Lists each texture (size, format, bytes, sampler) and the texture pool a frame would like and needs\n"
+    "at least.\n";
 
 const char* const kRenderHelp =
     "usage: maskline render [SCENE] [options]\n"
@@ -92,6 +100,10 @@ const char* const kRenderHelp =
     "                              heatmap (tiler only)\n"
     "  --stats                     print one JSON object of frame statistics on stdout\n"
     "  --arena BYTES               use an arena of this size instead of the exact need\n"
+    "  --texture-pool BYTES|all    texture pool in the arena (default all: every texture fits; smaller\n"
+    "                              pools evict and reload, below the largest texture some fall back)\n"
+    "  --texture-source blob|file  texels from the scene in memory (default) or read from the .mls file\n"
+    "                              when first needed\n"
     "\n"
     "output (how pixels leave the renderer; the PNG shows what such a display would show):\n"
     "  --format F                  xrgb8888 (default), rgb565 (panel byte order), rgb565le, grey8,\n"
@@ -123,7 +135,8 @@ const char* const kShowHelp =
     "  --stats                       one JSON line of statistics per frame (display_bytes and\n"
     "                                display_windows count what went to the display)\n"
     "The render options are those of maskline render (--renderer, --size, --aa, --shading, --eye,\n"
-    "--target, --up, --fov, --near, --background, --seed, --dither, --band-rows, --buffers, --arena);\n"
+    "--target, --up, --fov, --near, --background, --seed, --dither, --band-rows, --buffers, --arena,\n"
+    "--texture-pool, --texture-source);\n"
     "--format, when given, must be the display's.\n";
 
 // ---- argument parsing ---------------------------------------------------------------------------
@@ -252,9 +265,10 @@ std::string status_text(const ml::Status& s) {
   return s.message;
 }
 
-ml::Scene require_scene(const std::string& path, mlhost::LoadedScene* loaded) {
+ml::Scene require_scene(const std::string& path, mlhost::LoadedScene* loaded,
+                        const ml::CompileOptions& options = ml::CompileOptions()) {
   std::string error;
-  if (!mlhost::load_scene(path, loaded, &error, true)) failure(error);
+  if (!mlhost::load_scene(path, loaded, &error, true, options)) failure(error);
   return loaded->scene;
 }
 
@@ -325,7 +339,7 @@ struct MappedArena {
 // ---- commands -------------------------------------------------------------------------------------
 
 int cmd_compile(int argc, char** argv) {
-  const Args a = parse_args(argc, argv, 2, {"-o"}, {}, "compile");
+  const Args a = parse_args(argc, argv, 2, {"-o", "--texture-format", "--texture-max"}, {}, "compile");
   if (a.help) {
     fputs(kCompileHelp, stdout);
     return 0;
@@ -334,15 +348,53 @@ int cmd_compile(int argc, char** argv) {
   const std::string* out = find_option(a, "-o");
   if (!out || out->empty()) usage_error("compile: -o OUT.mls is required");
   const std::string& in = a.positional[0];
+  ml::CompileOptions options;
+  if (const auto* v = find_option(a, "--texture-format")) {
+    if (*v == "auto") options.texture_format = ml::TextureFormatChoice::Auto;
+    else if (*v == "rgb565") options.texture_format = ml::TextureFormatChoice::Rgb565;
+    else if (*v == "palette8") options.texture_format = ml::TextureFormatChoice::Palette8;
+    else if (*v == "grey4") options.texture_format = ml::TextureFormatChoice::Grey4;
+    else usage_error("--texture-format: expected auto, rgb565, palette8 or grey4, got '" + *v + "'");
+  }
+  if (const auto* v = find_option(a, "--texture-max"))
+    options.texture_max_size = int(parse_integer("--texture-max", *v, 1, ml::kMaxTextureDim));
   mlhost::LoadedScene loaded;
   std::string error;
-  if (!mlhost::load_scene(in, &loaded, &error, true)) failure(error);
+  if (!mlhost::load_scene(in, &loaded, &error, true, options)) failure(error);
   for (const auto& w : loaded.warnings) fprintf(stderr, "maskline: warning: %s\n", w.c_str());
   if (!ml::save_blob_file(*out, loaded.blob, &error)) failure(error);
   const ml::Scene& s = loaded.scene;
   printf("wrote %s: %zu bytes, %u triangles, %u nodes, %u materials, %u BSP nodes, %u pieces\n", out->c_str(),
          loaded.blob.size, s.triangle_count, s.node_count, s.material_count, s.bsp_node_count, s.bsp_piece_count);
   return 0;
+}
+
+const char* texel_format_name(uint8_t f) {
+  switch (ml::TexelFormat(f)) {
+    case ml::TexelFormat::Rgb565: return "rgb565";
+    case ml::TexelFormat::Palette8: return "palette8";
+    case ml::TexelFormat::Grey4: return "grey4";
+    default: return "none";
+  }
+}
+
+// One line per texture, then the pool sizes (texture/pager.h).
+void print_textures(const ml::Scene& scene) {
+  static const char* const kWrap[] = {"repeat", "mirrored", "clamp"};
+  for (uint32_t i = 0; i < scene.texture_texels_count; ++i) {
+    const ml::TextureTexels& t = scene.texture_texels[i];
+    if (t.format == uint8_t(ml::TexelFormat::None)) {
+      printf("texture %u: no texels (image missing or not decodable): material colour\n", i);
+      continue;
+    }
+    printf("texture %u: %ux%u %s", i, t.width, t.height, texel_format_name(t.format));
+    if (t.format == uint8_t(ml::TexelFormat::Palette8)) printf(" (%u colours)", t.palette_size);
+    printf(", %u bytes, wrap %s/%s, %s\n", t.bytes, kWrap[t.wrap_s], kWrap[t.wrap_t],
+           t.filter == uint8_t(ml::TextureFilter::Bilinear) ? "bilinear" : "nearest");
+  }
+  const ml::TexturePoolNeeds needs = ml::texture_pool_needs(scene);
+  if (needs.desired) printf("texture pool bytes: desired %u (every texture), minimum %u (the largest)\n",
+                            needs.desired, needs.minimum);
 }
 
 int cmd_info(int argc, char** argv) {
@@ -384,6 +436,7 @@ int cmd_info(int argc, char** argv) {
   const double split = scene.triangle_count ? double(scene.bsp_piece_count) / scene.triangle_count : 0.0;
   printf("bsp: %u nodes, %u pieces, split ratio %.4f, depth %u\n", scene.bsp_node_count, scene.bsp_piece_count, split,
          info.bsp_depth);
+  print_textures(scene);
   CameraArgs none;
   const ml::Camera base = make_camera(scene, none, width, height);
   for (ml::RendererKind k : {ml::RendererKind::Tiler, ml::RendererKind::Scanline}) {
@@ -402,7 +455,8 @@ int cmd_info(int argc, char** argv) {
 
 const std::vector<std::string> kRenderValued = {"--renderer", "--size", "--aa", "--eye", "--target", "--up",
                                                 "--fov", "--near", "--shading", "--seed", "--background",
-                                                "--arena", "--format", "--dither", "--band-rows", "--buffers"};
+                                                "--arena", "--format", "--dither", "--band-rows", "--buffers",
+                                                "--texture-pool", "--texture-source"};
 
 struct RenderArgs {
   ml::RenderOptions opt;
@@ -410,6 +464,7 @@ struct RenderArgs {
   bool has_size = false, has_format = false, has_dither = false;
   CameraArgs camera;
   long long arena_override = -1;
+  bool texture_file = false;  // --texture-source file
 };
 
 // Applies one option of kRenderValued; false when the name is not one of them.
@@ -448,6 +503,12 @@ bool parse_render_option(const std::string& n, const std::string& v, RenderArgs*
     r->has_dither = true;
   } else if (n == "--band-rows") opt.output.band_rows = int(parse_integer(n, v, 0, ml::kMaxScreenDim));
   else if (n == "--buffers") opt.output.buffers = int(parse_integer(n, v, 1, ml::kMaxBandBuffers));
+  else if (n == "--texture-pool") {
+    opt.texture_pool_bytes = v == "all" ? ml::kTexturePoolAll : uint32_t(parse_integer(n, v, 0, 0xFFFFFFFEll));
+  } else if (n == "--texture-source") {
+    if (v != "blob" && v != "file") usage_error("--texture-source: expected blob or file, got '" + v + "'");
+    r->texture_file = v == "file";
+  }
   else return false;
   return true;
 }
@@ -524,6 +585,18 @@ ml::Stats render_into(const ml::Scene& scene, const ml::Camera& camera, const ml
   return stats;
 }
 
+// --texture-source file: the texels are read from the .mls file as the pager asks (sets r->opt).
+std::unique_ptr<mlhost::FileTextureSource> open_texture_file(RenderArgs& r, const mlhost::LoadedScene& loaded) {
+  if (!r.texture_file) return nullptr;
+  const std::string& name = loaded.name;
+  if (name.size() < 4 || name.compare(name.size() - 4, 4, ".mls") != 0)
+    usage_error("--texture-source file: needs a .mls scene (maskline compile writes one)");
+  auto source = std::make_unique<mlhost::FileTextureSource>(name, loaded.scene);
+  if (!source->ok()) failure("cannot open " + name + " for its texels");
+  r.opt.texture_source = source.get();
+  return source;
+}
+
 mlhost::RunInfo run_info_for(const ml::Scene& scene, const mlhost::LoadedScene& loaded, const RenderArgs& r,
                              const char* shading, const std::string& display) {
   mlhost::RunInfo info;
@@ -566,6 +639,7 @@ int cmd_render(int argc, char** argv) {
   mlhost::LoadedScene loaded;
   const ml::Scene scene = require_scene(a.positional.empty() ? "" : a.positional[0], &loaded);
   const ml::Camera camera = make_camera(scene, r.camera, r.width, r.height);
+  const auto texture_file = open_texture_file(r, loaded);
 
   ml::Stats stats;
   const bool colour_pass = out_png || work_png || want_stats || !ids_png;
@@ -701,6 +775,7 @@ int cmd_show(int argc, char** argv) {
   mlhost::LoadedScene loaded;
   const ml::Scene scene = require_scene(a.positional.empty() ? "" : a.positional[0], &loaded);
   const ml::Camera base = make_camera(scene, r.camera, r.width, r.height);
+  const auto texture_file = open_texture_file(r, loaded);
   double seconds = 0;
   FrameArena frame_arena;
   for (int f = 0; f < frames; ++f) {

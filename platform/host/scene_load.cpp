@@ -78,11 +78,13 @@ bool adopt_compiled(ml::CompileResult result, const std::string& name, LoadedSce
   return validate(out, error);
 }
 
-bool load_scene(const std::string& path, LoadedScene* out, std::string* error, bool progress) {
+bool load_scene(const std::string& path, LoadedScene* out, std::string* error, bool progress,
+                const ml::CompileOptions& options) {
   if (path.empty()) {
     SlowNote note(progress, "building the default scene");
-    return adopt_compiled(ml::build_default_scene(), "default", out, error);
+    return adopt_compiled(ml::build_default_scene(options), "default", out, error);
   }
+  if (path == "builtin:banded") return adopt_compiled(ml::build_banded_scene(options), path, out, error);
   out->name = path;
   std::string ext = lower_extension(path);
   if (ext != ".glb" && ext != ".gltf" && ext != ".mls") {
@@ -116,7 +118,7 @@ bool load_scene(const std::string& path, LoadedScene* out, std::string* error, b
     return validate(out, error);
   }
   SlowNote note(progress, "compiling " + path);
-  return adopt_compiled(ml::compile_gltf_file(path), path, out, error);
+  return adopt_compiled(ml::compile_gltf_file(path, options), path, out, error);
 }
 
 GltfMapping gltf_mapping(const ml::Scene& scene) {

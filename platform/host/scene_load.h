@@ -20,9 +20,11 @@ struct LoadedScene {
   ml::CameraHint camera;              // world units; valid for procedural scenes
 };
 
-// Loads `path` (empty = the bundled default scene). On failure returns false and sets a one-line
-// message. `progress` prints a note on stderr when compiling takes long and stderr is a terminal.
-bool load_scene(const std::string& path, LoadedScene* out, std::string* error, bool progress = false);
+// Loads `path` (empty = the bundled default scene; "builtin:banded" = the four-texture banded scene).
+// On failure returns false and sets a one-line message. `progress` prints a note on stderr when
+// compiling takes long and stderr is a terminal. `options` apply to glTF and procedural scenes.
+bool load_scene(const std::string& path, LoadedScene* out, std::string* error, bool progress = false,
+                const ml::CompileOptions& options = ml::CompileOptions());
 
 // Validates a compiled blob into `out` (blob and scene); false with a one-line message.
 bool adopt_compiled(ml::CompileResult result, const std::string& name, LoadedScene* out, std::string* error);

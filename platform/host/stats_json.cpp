@@ -51,7 +51,10 @@ std::string stats_json(const ml::Stats& s, const RunInfo& run) {
     << ",\"bsp_pieces\":" << s.bsp_pieces << ",\"bsp_split_ratio\":" << number(run.bsp_split_ratio)
     << ",\"pyramid_bytes\":" << s.pyramid_bytes << ",\"bsp_subtrees_culled\":" << s.bsp_subtrees_culled << ",\"n\":" << s.n << ",\"m_max\":" << s.m_max
     << ",\"geometry_samples\":" << s.geometry_samples << ",\"sort_instructions\":" << s.sort_instructions
+    << ",\"texture_loads\":" << s.texture_loads << ",\"texture_reloads\":" << s.texture_reloads
+    << ",\"texture_evictions\":" << s.texture_evictions << ",\"texture_fallbacks\":" << s.texture_fallbacks
     << ",\"texture_bytes_loaded\":" << s.texture_bytes_loaded << ",\"texture_bytes_peak\":" << s.texture_bytes_peak
+    << ",\"textures_resident_peak\":" << s.textures_resident_peak
     << "}";
   return o.str();
 }

@@ -68,6 +68,10 @@ constexpr int kWeightBits = 16;
 constexpr int32_t kWeightOne = 1 << kWeightBits;
 
 constexpr int kTexcoordBits = 16;
+// Textures (scene/blob_format.h TextureTexels): power-of-two sides up to 2^10 texels, so a texel
+// coordinate u * width (u Q16.16) stays below 2^41 and a texture below 2 MiB.
+constexpr int kMaxTextureDimBits = 10;
+constexpr uint32_t kMaxTextureDim = 1u << kMaxTextureDimBits;
 constexpr int kAngleBits = 16;
 constexpr int kFocalBits = 8;
 

@@ -7,6 +7,11 @@
 
 namespace ml {
 
+class TextureSource;  // texture/source.h
+
+// RenderOptions::texture_pool_bytes asking for the pool that holds every texture at once.
+constexpr uint32_t kTexturePoolAll = 0xFFFFFFFFu;
+
 enum class RendererKind : uint8_t { Tiler, Scanline };
 
 enum class ShadingMode : uint8_t {
@@ -42,6 +47,11 @@ struct RenderOptions {
   uint32_t seed = 1;                  // for stochastic choices (adaptive shading, jitter)
   WorkImage* work = nullptr;
   OutputOptions output;
+  // Textures (texture/pager.h): the pool the pager may take from the arena (clamped to what the scene
+  // can use; texture_pool_needs() gives the desired and the minimum size) and where texels come from
+  // (null: the blob's own Texels section).
+  uint32_t texture_pool_bytes = kTexturePoolAll;
+  TextureSource* texture_source = nullptr;
 };
 
 }  // namespace ml

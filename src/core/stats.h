@@ -37,9 +37,14 @@ struct Stats {
   uint64_t geometry_samples = 0;       // samples whose visible surface was resolved
   uint64_t sort_instructions = 0;      // work units spent sorting (comparisons + moves)
 
-  // texture pager
-  uint32_t texture_bytes_loaded = 0;
-  uint32_t texture_bytes_peak = 0;
+  // texture pager (texture/pager.h)
+  uint32_t texture_loads = 0;          // textures read from the TextureSource (reloads included)
+  uint32_t texture_reloads = 0;        // reads of a texture already read earlier in the frame
+  uint32_t texture_evictions = 0;      // textures dropped before their last use to make room
+  uint32_t texture_fallbacks = 0;      // textures drawn in their material colour: read failed or too large
+  uint32_t texture_bytes_loaded = 0;   // bytes read from the TextureSource
+  uint32_t texture_bytes_peak = 0;     // most pool bytes resident at once
+  uint32_t textures_resident_peak = 0; // most textures resident at once
 };
 
 }  // namespace ml

@@ -6,6 +6,9 @@
 #include "scanline/internal.h"
 #include "scanline/sort.h"
 #include "scanline/wide.h"
+#include "texture/mapping.h"
+#include "texture/pager.h"
+#include "texture/sampler.h"
 
 namespace ml {
 namespace scan {
@@ -223,6 +226,7 @@ struct Setup {
   bool colour = true;  // not Ids / Lines
   bool accumulate = false;  // l > 1 colour: per-pixel sums
   size_t band_bytes = 0;    // band buffers (core/band.h)
+  size_t pager_bytes = 0;   // texture pager (texture/pager.h); 0 without texels or in Ids/Lines mode
 };
 
 Status make_setup(const Scene& scene, const Camera& camera, const RenderOptions& options, Setup* s) {
@@ -238,6 +242,7 @@ Status make_setup(const Scene& scene, const Camera& camera, const RenderOptions&
   s->colour = options.shading != ShadingMode::Ids && options.shading != ShadingMode::Lines;
   s->lat = make_lattice(camera.width, camera.height, s->colour ? options.aa : 1);
   s->accumulate = s->colour && s->lat.l > 1;
+  s->pager_bytes = s->colour ? TexturePager::arena_bytes(scene, options.texture_pool_bytes) : 0;
   return ok_status();
 }
 
@@ -338,8 +343,9 @@ inline bool by_rows(uint32_t n, const Lattice& lat) { return (size_t(lat.ny) + 1
 
 struct Sizes {
   size_t ysort, drawn, temp, yactive, ord, xactive, keep, acc, band;
-  size_t phase1() const { return 7 + ysort + drawn + temp; }
-  size_t phase2() const { return 7 + ysort + drawn + yactive + ord + xactive + keep + acc + band; }
+  size_t pager, texslots;  // texture pool and per-slot texture state (0 untextured)
+  size_t phase1() const { return 7 + pager + ysort + drawn + temp; }
+  size_t phase2() const { return 7 + pager + ysort + drawn + yactive + ord + xactive + keep + acc + band + texslots; }
   size_t need() const { return max_of(phase1(), phase2()); }
 };
 
@@ -354,6 +360,8 @@ Sizes sizes_for(const Scene& scene, const Setup& s, uint32_t n, uint32_t m) {
   z.keep = 2 * round8(size_t(s.width) * 4);
   z.acc = s.accumulate ? round8(size_t(s.width) * 8) : 0;
   z.band = s.band_bytes;
+  z.pager = s.pager_bytes;
+  z.texslots = s.pager_bytes ? round8(size_t(m) * sizeof(TexturePlanes)) + round8(size_t(m) * 4) : 0;
   return z;
 }
 
@@ -465,6 +473,13 @@ struct Renderer {
   uint64_t* acc = nullptr;           // l > 1: per-pixel channel sums, 21 bits each
   Pixel bg = 0;
 
+  // textures: the pager, and per yActiveList slot the texture (kNone: untextured; kTexReady: planes
+  // set up) and its perspective planes, set up at the slot's first shading call
+  TexturePager pager;
+  uint32_t* tex_of = nullptr;
+  TexturePlanes* tex_planes = nullptr;
+  static constexpr uint32_t kTexReady = 0x80000000u;
+
   // per sample row (l > 1)
   int32_t cur_px = 0;
   int32_t cur_right = 0;  // cur_px's right border sample
@@ -493,6 +508,10 @@ struct Renderer {
       a.vy[i] = t.v[i].y;
     }
     if (t.front_facing) flags |= kFront;
+    if (tex_of) {
+      tex_of[slot] = triangle_texture(*scene, id);
+      pager.add_user(tex_of[slot]);
+    }
     const Material& mat = material_of(*scene, id);
     if (mat.alpha_mode == uint8_t(AlphaMode::Blend) && s.colour) flags |= kBlend;
     const uint32_t depth[3] = {t.v[0].depth, t.v[1].depth, t.v[2].depth};
@@ -546,15 +565,37 @@ struct Renderer {
   Pixel shade(ActiveTri& a, int32_t x, int32_t y) {
     ++stats->shading_calls;
     ensure_colors(a);
-    if (!(a.flags & kSmooth)) return a.color[0];
-    if (!(a.flags & kWeightsReady)) {
-      a.weight_recip = weight_reciprocal(a, s.lat);  // one reciprocal a piece, no division a sample
-      a.flags |= kWeightsReady;
+    Pixel c = a.color[0];
+    if (a.flags & kSmooth) {
+      if (!(a.flags & kWeightsReady)) {
+        a.weight_recip = weight_reciprocal(a, s.lat);  // one reciprocal a piece, no division a sample
+        a.flags |= kWeightsReady;
+      }
+      int32_t w[3];
+      sample_weights(a, s.lat, x, y, w);
+      c = blend_colors(a.color, w);
     }
-    int32_t w[3];
-    sample_weights(a, s.lat, x, y, w);
-    return blend_colors(a.color, w);
+    return tex_of && tex_of[&a - act] != kNone ? texture(a, x, y, c) : c;
   }
+
+  // §5: the texel at sample (x, y) modulates the shaded colour (the colour alone when the pager
+  // falls back). Texture coordinates come from the whole triangle, as in the tiler.
+  Pixel texture(const ActiveTri& a, int32_t x, int32_t y, Pixel c) {
+    const uint32_t slot = uint32_t(&a - act);
+    uint32_t& t = tex_of[slot];
+    if (!(t & kTexReady)) {
+      triangle_texture_planes(*scene, s.view, a.id, s.lat.den, s.lat.ox, s.lat.oy, &tex_planes[slot]);
+      t |= kTexReady;
+    }
+    const uint32_t texture = t & ~kTexReady;
+    const uint8_t* bytes = pager.get(texture);
+    if (!bytes) return c;
+    int32_t uv[2];
+    texture_uv(tex_planes[slot], x, y, uv);
+    return modulate_texel(sample_texture(scene->texture_texels[texture], bytes, uv), c);
+  }
+  bool textured(uint32_t slot) const { return tex_of && tex_of[slot] != kNone; }
+  uint32_t slot_of(const ActiveTri& a) const { return uint32_t(&a - act); }
 
   void mark_drawn(ActiveTri& a) {
     if (a.flags & kWon) return;
@@ -674,8 +715,10 @@ struct Renderer {
   Pixel keep_or_shade(ActiveTri& front, int32_t x, int32_t y, uint32_t key) {
     const int32_t c = pixel_of(x);
     const uint32_t kr = keep_rgb[c];
-    // adaptive-stochastic shading (§3.4.2): the generator is drawn only for a kept, unforced surface
-    if (keep_surface[c] == key && !(kr & kForce) && rng.next() >= p_threshold) return kr & 0xFFFFFF;
+    // Adaptive-stochastic shading (§3.4.2): the generator is drawn only for a kept, unforced surface.
+    // Textured surfaces are shaded at every sample: the l x l samples filter the texels (§5).
+    if (keep_surface[c] == key && !(kr & kForce) && !textured(slot_of(front)) && rng.next() >= p_threshold)
+      return kr & 0xFFFFFF;
     return shade_kept(front, x, y, c, key);
   }
 
@@ -724,13 +767,14 @@ struct Renderer {
     const uint32_t p = p_threshold;
     const uint32_t* const surface = keep_surface;
     const uint32_t* const kept = keep_rgb;
+    const bool tex = textured(slot_of(a));  // shaded at every sample, as in keep_or_shade
     int32_t px = cur_px, right = cur_right;
     uint64_t sum = cur_sum;
     for (int32_t x = x0; x <= x1; ++x) {
       const int32_t c = x == right && px < last_px ? px + 1 : px;
       const uint32_t kr = kept[c];
       Pixel col;
-      if (surface[c] == key && !(kr & kForce) && rng.next() >= p) col = kr & 0xFFFFFF;
+      if (surface[c] == key && !(kr & kForce) && !tex && rng.next() >= p) col = kr & 0xFFFFFF;
       else col = shade_kept(a, x, y, c, key);
       if (col != last_colour) { last_colour = col; last_packed = pack(col); }
       sum += last_packed;
@@ -928,6 +972,7 @@ struct Renderer {
         const uint32_t slot = ord[r];
         ActiveTri& a = act[slot];
         if (a.max_y < y) {
+          if (tex_of) pager.drop_user(tex_of[slot] & ~kTexReady);
           a.id = free_head;
           free_head = slot;
         } else {
@@ -947,6 +992,7 @@ struct Renderer {
         order_row(y);
         sweep(y);
       }
+      pager.rows_done(uint32_t(y));  // frees the textures whose last row this was
       const int32_t py = finished_row(y);
       if (py >= 0) {
         st = emit_row(py, out_row);
@@ -1017,6 +1063,10 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
                  start + sizes_for(scene, s, n, m).need());
   };
 
+  if (s.pager_bytes) {
+    st = r.pager.begin(scene, options.texture_source, options.texture_pool_bytes, arena, stats);
+    if (!st.ok()) { arena.release_to(start); return too_small(); }
+  }
   // Build ySortList straight into the free part of the arena, then claim exactly what it used.
   arena.allocate(0, 8);
   const size_t free_bytes = arena.size() - arena.used();
@@ -1026,7 +1076,9 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
   stats->triangles_culled = for_each_piece(scene, s, [&](uint32_t ref, uint16_t y0, uint16_t y1) {
     if (n < cap) ys_space[n] = YSortEntry{ref, y0, y1};
     ++n;
+    if (r.pager.active()) r.pager.plan(triangle_texture(scene, ref >> 4), y1);  // §5: last row; ref: make_ref
   });
+  r.pager.finish_plan();
   Sizes z = sizes_for(scene, s, n, 0);
   if (arena.size() - start < z.phase1()) { arena.release_to(start); return too_small(); }
   YSortEntry* ys = static_cast<YSortEntry*>(arena.allocate(z.ysort, 8));
@@ -1060,6 +1112,10 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
   r.keep_surface = static_cast<uint32_t*>(arena.allocate(z.keep / 2, 8));
   r.keep_rgb = static_cast<uint32_t*>(arena.allocate(z.keep / 2, 8));
   if (z.acc) r.acc = static_cast<uint64_t*>(arena.allocate(z.acc, 8));
+  if (z.texslots) {
+    r.tex_planes = static_cast<TexturePlanes*>(arena.allocate(round8(size_t(m) * sizeof(TexturePlanes)), 8));
+    r.tex_of = static_cast<uint32_t*>(arena.allocate(round8(size_t(m) * 4), 8));
+  }
   stats->n = n;
   st = r.run();  // takes the band buffers
   note();

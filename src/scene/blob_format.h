@@ -49,6 +49,8 @@ enum class SectionType : uint32_t {
   BspNodes = 7,    // BspNode[count], node 0 is the root (absent or count 0: no BSP)
   BspPieces = 8,   // BspPiece[count], referenced by BspNode ranges
   Textures = 9,    // TextureRef[count]
+  TextureTexels = 10,  // TextureTexels[count], one per TextureRef (same index): size, format, sampler
+  Texels = 11,     // uint8[count]: every texture's bytes, where its TextureTexels entry says
 };
 
 struct SectionEntry {
@@ -157,9 +159,41 @@ struct BspPiece {
 static_assert(sizeof(BspPiece) == 16, "BspPiece layout");
 
 struct TextureRef {
-  uint32_t image;              // glTF image index (texels are not stored yet)
+  uint32_t image;              // glTF image index (for info; the texels are in TextureTexels/Texels)
   uint32_t reserved;
 };
 static_assert(sizeof(TextureRef) == 8, "TextureRef layout");
+
+// Device formats of texels. A texture's bytes are its palette (Palette8 only) followed by its rows,
+// top row first (glTF v = 0), no padding; texture_bytes() gives the count.
+enum class TexelFormat : uint8_t {
+  None = 0,      // no texels (the compiler could not or would not store the image): base colour
+  Rgb565 = 1,    // u16 little-endian per texel, r in the top 5 bits; 8-bit channels by bit replication
+                 // (r8 = r5 << 3 | r5 >> 2, g8 = g6 << 2 | g6 >> 4)
+  Palette8 = 2,  // palette_size RGB565 colours (u16 each), then one u8 index per texel
+  Grey4 = 3,     // two texels per byte, the left one in the low nibble; grey = nibble * 17
+};
+enum class TextureWrap : uint8_t { Repeat = 0, MirroredRepeat = 1, ClampToEdge = 2 };
+enum class TextureFilter : uint8_t { Nearest = 0, Bilinear = 1 };
+
+struct TextureTexels {
+  uint32_t offset;             // of the texture's first byte in Texels, a multiple of 4
+  uint32_t bytes;              // texture_bytes(format, width, height, palette_size)
+  uint16_t width, height;      // powers of two, 1..kMaxTextureDim (core/fixed.h); 0 with format None
+  uint8_t format;              // TexelFormat
+  uint8_t wrap_s, wrap_t;      // TextureWrap, for u and v
+  uint8_t filter;              // TextureFilter (magnification and minification alike)
+  uint16_t palette_size;       // Palette8: 1..256 colours; otherwise 0
+  uint16_t reserved;
+};
+static_assert(sizeof(TextureTexels) == 20, "TextureTexels layout");
+
+// Bytes of one texture's data (0 for None). Exact in uint32 for sizes up to kMaxTextureDim.
+constexpr uint32_t texture_bytes(TexelFormat format, uint32_t width, uint32_t height, uint32_t palette_size) {
+  return format == TexelFormat::Rgb565     ? width * height * 2
+         : format == TexelFormat::Palette8 ? palette_size * 2 + width * height
+         : format == TexelFormat::Grey4    ? ((width + 1) / 2) * height
+                                           : 0;
+}
 
 }  // namespace ml

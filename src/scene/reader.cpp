@@ -21,7 +21,7 @@ constexpr CrcTable kCrcTable;
 
 // ---- helpers -------------------------------------------------------------------------------------
 
-constexpr uint32_t kSectionTypeCount = 9;      // SectionType values are 1..9
+constexpr uint32_t kSectionTypeCount = 11;     // SectionType values are 1..11
 
 uint32_t element_size(uint32_t type) {
   switch (static_cast<SectionType>(type)) {
@@ -34,6 +34,8 @@ uint32_t element_size(uint32_t type) {
     case SectionType::BspNodes: return sizeof(BspNode);
     case SectionType::BspPieces: return sizeof(BspPiece);
     case SectionType::Textures: return sizeof(TextureRef);
+    case SectionType::TextureTexels: return sizeof(TextureTexels);
+    case SectionType::Texels: return 1;
   }
   return 0;
 }
@@ -91,7 +93,7 @@ Status check_sections(const uint8_t* base, const BlobHeader& h, Sections* s) {
     if (uint64_t(e.count) * element_size(e.type) != e.size) return bad("section size does not match count");
     s->entry[e.type] = &e;
   }
-  // Pairwise overlap (at most nine sections).
+  // Pairwise overlap (at most eleven sections).
   for (uint32_t a = 1; a <= kSectionTypeCount; ++a) {
     const SectionEntry* ea = s->entry[a];
     if (ea == nullptr || ea->size == 0) continue;
@@ -131,6 +133,39 @@ Status check_materials(const Scene& s) {
     if (m.texture != kNone && m.texture >= s.texture_count) return bad("material texture index out of range");
     if (m.double_sided > 1) return bad("material double_sided not 0 or 1");
     if (m.alpha_mode > uint8_t(AlphaMode::Blend)) return bad("material alpha mode invalid");
+  }
+  return ok_status();
+}
+
+bool power_of_two_side(uint32_t v) { return v >= 1 && v <= kMaxTextureDim && (v & (v - 1)) == 0; }
+
+Status check_texture(const TextureTexels& t, uint32_t texel_bytes) {
+  if (t.format > uint8_t(TexelFormat::Grey4)) return bad("texture format invalid");
+  if (t.wrap_s > uint8_t(TextureWrap::ClampToEdge) || t.wrap_t > uint8_t(TextureWrap::ClampToEdge))
+    return bad("texture wrap mode invalid");
+  if (t.filter > uint8_t(TextureFilter::Bilinear)) return bad("texture filter invalid");
+  if (t.reserved != 0) return bad("texture reserved field not zero");
+  const TexelFormat format = TexelFormat(t.format);
+  if (format == TexelFormat::None) {
+    if (t.width != 0 || t.height != 0 || t.bytes != 0 || t.palette_size != 0) return bad("empty texture not zero");
+    return ok_status();
+  }
+  if (!power_of_two_side(t.width) || !power_of_two_side(t.height)) return bad("texture size not a power of two up to limit");
+  const bool palette = format == TexelFormat::Palette8;
+  if (palette ? (t.palette_size < 1 || t.palette_size > 256) : t.palette_size != 0)
+    return bad("texture palette size invalid");
+  if (t.bytes != texture_bytes(format, t.width, t.height, t.palette_size)) return bad("texture byte count wrong");
+  if ((t.offset & 3u) != 0) return bad("texture offset not 4-byte aligned");
+  if (!range_ok(t.offset, t.bytes, texel_bytes)) return bad("texture texels outside texels section");
+  return ok_status();
+}
+
+Status check_textures(const Scene& s) {
+  if (s.texture_texels == nullptr) return ok_status();
+  if (s.texture_texels_count != s.texture_count) return bad("texture texels count differs from textures");
+  for (uint32_t i = 0; i < s.texture_texels_count; ++i) {
+    const Status st = check_texture(s.texture_texels[i], s.texel_bytes);
+    if (!st.ok()) return st;
   }
   return ok_status();
 }
@@ -318,9 +353,13 @@ Status read_scene(const void* blob, size_t size, Scene* out) {
   s.bsp_nodes = section_data<BspNode>(base, sec.entry[uint32_t(SectionType::BspNodes)], &s.bsp_node_count);
   s.bsp_pieces = section_data<BspPiece>(base, sec.entry[uint32_t(SectionType::BspPieces)], &s.bsp_piece_count);
   s.textures = section_data<TextureRef>(base, sec.entry[uint32_t(SectionType::Textures)], &s.texture_count);
+  s.texture_texels = section_data<TextureTexels>(base, sec.entry[uint32_t(SectionType::TextureTexels)],
+                                                 &s.texture_texels_count);
+  s.texels = section_data<uint8_t>(base, sec.entry[uint32_t(SectionType::Texels)], &s.texel_bytes);
 
   if (!(st = check_info(*s.info)).ok()) return st;
   if (!(st = check_materials(s)).ok()) return st;
+  if (!(st = check_textures(s)).ok()) return st;
   if (!(st = check_nodes(s)).ok()) return st;
   if (!(st = check_batches(s)).ok()) return st;
   if (!(st = check_vertices(s)).ok()) return st;
@@ -336,6 +375,18 @@ Vec3i vertex_world(const Scene& scene, uint32_t batch, uint32_t vertex) {
   return Vec3i{int32_t(b.offset[0] + ((int64_t(q[0]) * b.scale[0]) >> 16)),
                int32_t(b.offset[1] + ((int64_t(q[1]) * b.scale[1]) >> 16)),
                int32_t(b.offset[2] + ((int64_t(q[2]) * b.scale[2]) >> 16))};
+}
+
+void vertex_uv(const Scene& scene, uint32_t vertex, int32_t out[2]) {
+  const Vertex& v = scene.vertices[vertex];
+  out[0] = v.uv[0];
+  out[1] = v.uv[1];
+}
+
+const TextureTexels* material_texels(const Scene& scene, const Material& material) {
+  if (material.texture == kNone || scene.texture_texels == nullptr) return nullptr;
+  const TextureTexels* t = &scene.texture_texels[material.texture];
+  return t->format == uint8_t(TexelFormat::None) ? nullptr : t;
 }
 
 void triangle_world(const Scene& scene, uint32_t id, Vec3i out[3]) {

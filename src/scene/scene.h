@@ -27,6 +27,9 @@ struct Scene {
   const BspNode* bsp_nodes = nullptr;    uint32_t bsp_node_count = 0;
   const BspPiece* bsp_pieces = nullptr;  uint32_t bsp_piece_count = 0;
   const TextureRef* textures = nullptr;  uint32_t texture_count = 0;
+  // Optional: absent in scenes without texels (then every material draws its base colour).
+  const TextureTexels* texture_texels = nullptr;  uint32_t texture_texels_count = 0;  // == texture_count
+  const uint8_t* texels = nullptr;       uint32_t texel_bytes = 0;
 };
 
 // CRC-32 (IEEE 802.3, reflected, as zlib's crc32). Pass the previous value to continue a running CRC.
@@ -38,6 +41,13 @@ Status read_scene(const void* blob, size_t size, Scene* out);
 
 // World position of a vertex quantized with `batch`. Only valid on a Scene from read_scene.
 Vec3i vertex_world(const Scene& scene, uint32_t batch, uint32_t vertex);
+
+// TEXCOORD_0 of a vertex, Q16.16 (the one place that reads Vertex::uv).
+void vertex_uv(const Scene& scene, uint32_t vertex, int32_t out[2]);
+
+// The texels of a material's base-colour texture, or null when it has none (no texture, no texels
+// section, or a texture the compiler stored as TexelFormat::None).
+const TextureTexels* material_texels(const Scene& scene, const Material& material);
 
 // World positions of triangle `id`'s three vertices.
 void triangle_world(const Scene& scene, uint32_t id, Vec3i out[3]);

@@ -4,6 +4,9 @@
 #include "tiler/tiler.h"
 
 #include "core/band.h"
+#include "texture/mapping.h"
+#include "texture/pager.h"
+#include "texture/sampler.h"
 #include "tiler/tile.h"
 
 namespace ml {
@@ -57,12 +60,20 @@ class BandWriter : public CoverageWriter {
     front_facing_ = front_facing;
     shaded_ = false;
     wrote_piece_ = false;
+    texture_ = pager_ ? triangle_texture(*scene, triangle) : kNone;
+    texture_ready_ = false;
+  }
+  // Textured pieces (texture/): the pager, and the view their texture planes are built in.
+  void use_textures(TexturePager* pager, const View* view) {
+    pager_ = pager->active() ? pager : nullptr;
+    view_ = view;
   }
   void begin_part(const ScreenTriangle* part) {
     part_ = part;
     planes_ready_ = false;
   }
   void begin_background(Pixel value) {
+    texture_ = kNone;
     shaded_ = true;
     colors_.flat = value;
     colors_.smooth = false;
@@ -106,6 +117,10 @@ class BandWriter : public CoverageWriter {
   bool write_pixels(int x, int band_y, int w, int h) {
     const int y = band_y + top_;
     stats_->pixel_writes += uint64_t(w) * uint64_t(h);
+    if (texture_ != kNone) {
+      write_textured(x, y, w, h);
+      return true;
+    }
     if (!colors_.smooth) {
       out_.fill(x, y, w, h, colors_.flat);
       return true;
@@ -138,17 +153,49 @@ class BandWriter : public CoverageWriter {
   }
 
  private:
-  // Colour of the current piece (or the background) at pixel (px, py) of the frame.
-  Pixel color_at(int px, int py) {
+  // The colour before texturing at pixel (px, py) of the frame: flat, or the planes of a smooth piece.
+  Pixel base_at(int px, int py) {
     if (!colors_.smooth) return colors_.flat;
     if (!planes_ready_) {
       make_color_planes(*part_, colors_, &planes_);
       planes_ready_ = true;
     }
-    ++stats_->shading_calls;
     uint32_t ch[3];
     for (int c = 0; c < 3; ++c) ch[c] = uint32_t(clamp_to(planes_.channel[c].at(px, py), 0, 255));
     return rgb(ch[0], ch[1], ch[2]);
+  }
+
+  // Colour of the current piece (or the background) at pixel (px, py) of the frame, textured.
+  Pixel color_at(int px, int py) {
+    if (colors_.smooth || texture_ != kNone) ++stats_->shading_calls;
+    const Pixel c = base_at(px, py);
+    return texture_ != kNone ? texel_at(px, py, c) : c;
+  }
+
+  // The texel at pixel (px, py) modulates colour c (c alone when the pager falls back). Texture
+  // planes come from the whole triangle, as in the scanline renderer; oversampled frames take the
+  // texel at the pixel centre.
+  Pixel texel_at(int px, int py, Pixel c) {
+    const uint8_t* bytes = pager_->get(texture_);
+    if (!bytes) return c;
+    if (!texture_ready_) {
+      triangle_texture_planes(*scene_, *view_, triangle_, 1, kSubpixelHalf, kSubpixelHalf, &texture_planes_);
+      texture_ready_ = true;
+    }
+    int32_t uv[2];
+    texture_uv(texture_planes_, px, py, uv);
+    return modulate_texel(sample_texture(scene_->texture_texels[texture_], bytes, uv), c);
+  }
+
+  // A block of a textured piece, pixel by pixel.
+  void write_textured(int x, int y, int w, int h) {
+    stats_->shading_calls += uint64_t(w) * uint64_t(h);
+    for (int yy = y; yy < y + h; ++yy)
+      for (int x0 = x; x0 < x + w; x0 += kRowPixels) {
+        const int n = min_of(kRowPixels, x + w - x0);
+        for (int i = 0; i < n; ++i) row_[i] = texel_at(x0 + i, yy, base_at(x0 + i, yy));
+        out_.put_row(x0, yy, row_, n);
+      }
   }
 
   // Samples [x, x + w) x [band_y, band_y + h) newly covered with the current colour. A pixel covered
@@ -204,6 +251,11 @@ class BandWriter : public CoverageWriter {
   bool planes_ready_ = false;
   TriangleColors colors_{};
   ColorPlanes planes_{};
+  TexturePager* pager_ = nullptr;
+  const View* view_ = nullptr;
+  uint32_t texture_ = kNone;
+  bool texture_ready_ = false;
+  TexturePlanes texture_planes_{};
 };
 
 // A BSP piece cut from a triangle has split vertices quantized like any vertex, so its outer edges
@@ -450,6 +502,8 @@ class TilerFrame {
   Status walk_bsp();
   // Projects, culls and tiles one piece into the band's pyramid.
   Status draw_piece(const BspPiece& piece);
+  // Plans each texture's last pixel row from the textured triangles' projected extent.
+  void plan_textures();
   Status finish(Status s, const Arena& arena) {
     st_->peak_arena_bytes = uint32_t(arena.peak());
     return s;
@@ -468,6 +522,7 @@ class TilerFrame {
   BandWriter* writer_ = nullptr;
   BspFrame* stack_ = nullptr;
   size_t stack_cap_ = 0;
+  TexturePager pager_;
 };
 
 Status TilerFrame::run(Arena& arena, Sink& sink) {
@@ -476,10 +531,16 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
   Pixel* row = arena.allocate_array<Pixel>(kRowPixels);
   const size_t need = tiler_arena_bytes(scene_, camera_, options_);
   if (!stack_ || !row) return error(StatusCode::ArenaTooSmall, "arena too small", need);
+  if (options_.shading != ShadingMode::Ids) {
+    const Status t = pager_.begin(scene_, options_.texture_source, options_.texture_pool_bytes, arena, st_);
+    if (!t.ok()) return finish(error(t.code, t.message, need), arena);
+    plan_textures();
+  }
   Status s = out_.begin(options_.output, camera_.width, camera_.height, arena, sink);
   if (!s.ok()) return finish(s.code == StatusCode::ArenaTooSmall ? error(s.code, s.message, need) : s, arena);
   light_ = make_light(view_);
   BandWriter writer(out_, st_, row);
+  writer.use_textures(&pager_, &view_);
   writer_ = &writer;
   band_.factor = sample_factor(options_);
   if (band_.factor > 1) {
@@ -518,7 +579,29 @@ Status TilerFrame::render_band(int band, Arena& arena) {
   st_->cells_visited = tiler_.cells_visited;
   arena.release_to(mark);
   ++st_->bands;
+  pager_.rows_done(uint32_t(band_.top + band_.rows - 1));  // frees textures no later band uses
   return out_.finish_band();
+}
+
+void TilerFrame::plan_textures() {
+  if (!pager_.active()) return;
+  for (uint32_t id = 0; id < scene_.triangle_count; ++id) {
+    const uint32_t texture = triangle_texture(scene_, id);
+    if (texture == kNone) continue;
+    Vec3i world[3];
+    triangle_world(scene_, id, world);
+    const int facing = triangle_facing(view_, world);
+    const Material& mat = scene_.materials[scene_.batches[scene_.triangles[id].batch].material];
+    if (facing == 0 || (facing < 0 && !mat.double_sided)) continue;
+    ScreenTriangle parts[kMaxClipTriangles];
+    const int n = project_triangle(view_, world, facing, parts);
+    int32_t last = -1;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < 3; ++j) last = max_of(last, parts[i].v[j].y);
+    // BSP pieces are quantized split points of the triangle: a pixel of margin covers them.
+    if (n > 0 && last >= 0) pager_.plan(texture, uint32_t(min_of(last / kSubpixelOne + 1, camera_.height - 1)));
+  }
+  pager_.finish_plan();
 }
 
 Status TilerFrame::walk_bsp() {
@@ -621,7 +704,8 @@ size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderO
   const int width = clamp_to(camera.width, 1, kMaxScreenDim), height = clamp_to(camera.height, 1, kMaxScreenDim);
   const int rows = band_rows_for(options.output, height), factor = clamp_to(sample_factor(options), 1, kMaxTilerAa);
   if (!band_layout(width, rows, factor, &layout)) return 0;
-  return Pyramid::arena_bytes(layout) + sums_arena_bytes(factor, width, rows) +
+  const size_t pager = options.shading == ShadingMode::Ids ? 0 : TexturePager::arena_bytes(scene, options.texture_pool_bytes);
+  return pager + Pyramid::arena_bytes(layout) + sums_arena_bytes(factor, width, rows) +
          arena_worst_case(sizeof(BspFrame) * bsp_stack_entries(scene), 4) +
          arena_worst_case(sizeof(Pixel) * kRowPixels, 4) +
          BandOutput::arena_bytes(options.output, width, height);

@@ -40,6 +40,10 @@ void walk(const ml::Scene& s) {
   for (uint32_t m = 0; m < s.material_count; ++m) {
     if (s.materials[m].texture != ml::kNone) sum += s.textures[s.materials[m].texture].image;
   }
+  for (uint32_t t = 0; t < s.texture_texels_count; ++t) {  // every texel byte a texture claims
+    const ml::TextureTexels& tex = s.texture_texels[t];
+    for (uint32_t b = 0; b < tex.bytes; ++b) sum += s.texels[tex.offset + b];
+  }
   sum += s.info->sphere_radius;
   g_sink = sum;
 }

@@ -14,6 +14,63 @@ std::vector<Triangle> scene_triangles(const ml::Scene& scene) {
   return out;
 }
 
+std::vector<Surface> scene_surfaces(const ml::Scene& scene) {
+  std::vector<Surface> out(scene.triangle_count);
+  for (uint32_t id = 0; id < scene.triangle_count; ++id) {
+    const ml::Triangle& t = scene.triangles[id];
+    const ml::Material& m = scene.materials[scene.batches[t.batch].material];
+    for (int k = 0; k < 3; ++k) {
+      int32_t uv[2];
+      ml::vertex_uv(scene, t.v[k], uv);
+      out[id].uv[k][0] = uv[0] / 65536.0;
+      out[id].uv[k][1] = uv[1] / 65536.0;
+    }
+    out[id].base = uint32_t(m.base_color[0]) << 16 | uint32_t(m.base_color[1]) << 8 | m.base_color[2];
+    if (m.texture != ml::kNone && scene.texture_texels &&
+        scene.texture_texels[m.texture].format != uint8_t(ml::TexelFormat::None))
+      out[id].texture = int(m.texture);
+  }
+  return out;
+}
+
+std::vector<Texture> scene_textures(const ml::Scene& scene) {
+  std::vector<Texture> out(scene.texture_texels_count);
+  auto rgb565 = [](uint32_t v) {
+    const uint32_t r = (v >> 11) & 31, g = (v >> 5) & 63, b = v & 31;
+    // The format's expansion to 8 bits (blob_format.h): bit replication.
+    return (r << 3 | r >> 2) << 16 | (g << 2 | g >> 4) << 8 | (b << 3 | b >> 2);
+  };
+  for (uint32_t i = 0; i < scene.texture_texels_count; ++i) {
+    const ml::TextureTexels& t = scene.texture_texels[i];
+    Texture& tex = out[i];
+    if (t.format == uint8_t(ml::TexelFormat::None)) continue;
+    tex.width = t.width;
+    tex.height = t.height;
+    const Wrap wraps[3] = {Wrap::Repeat, Wrap::Mirrored, Wrap::Clamp};
+    tex.wrap_s = wraps[t.wrap_s];
+    tex.wrap_t = wraps[t.wrap_t];
+    tex.bilinear = t.filter == uint8_t(ml::TextureFilter::Bilinear);
+    const uint8_t* b = scene.texels + t.offset;
+    for (int y = 0; y < t.height; ++y)
+      for (int x = 0; x < t.width; ++x) {
+        const size_t k = size_t(y) * t.width + size_t(x);
+        uint32_t c = 0;
+        if (t.format == uint8_t(ml::TexelFormat::Rgb565)) {
+          c = rgb565(b[2 * k] | uint32_t(b[2 * k + 1]) << 8);
+        } else if (t.format == uint8_t(ml::TexelFormat::Palette8)) {
+          const uint32_t index = b[2 * size_t(t.palette_size) + k];
+          c = rgb565(b[2 * index] | uint32_t(b[2 * index + 1]) << 8);
+        } else {
+          const uint32_t byte = b[size_t(y) * ((t.width + 1) / 2) + size_t(x / 2)];
+          const uint32_t g = ((x & 1) ? byte >> 4 : byte & 15) * 17;
+          c = g << 16 | g << 8 | g;
+        }
+        tex.rgb.push_back(c);
+      }
+  }
+  return out;
+}
+
 Camera to_oracle_camera(const ml::Camera& c) {
   Camera o;
   o.eye = {double(c.eye.x), double(c.eye.y), double(c.eye.z)};

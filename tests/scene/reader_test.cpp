@@ -64,6 +64,9 @@ TEST(SceneReader, SmallBlobHasEverySection) {
   EXPECT_EQ(s.triangle_count, 24u);
   EXPECT_EQ(s.material_count, 2u);
   EXPECT_EQ(s.texture_count, 1u);
+  EXPECT_EQ(s.texture_texels_count, 1u);
+  EXPECT_EQ(s.texture_texels[0].format, uint8_t(TexelFormat::Palette8));
+  EXPECT_EQ(s.texel_bytes, (4u * 4u + 2u * s.texture_texels[0].palette_size + 7u) & ~7u);  // padded to 8
   EXPECT_EQ(s.node_count, 3u);
   EXPECT_GT(s.bsp_node_count, 0u);
   EXPECT_GT(s.bsp_piece_count, 24u);

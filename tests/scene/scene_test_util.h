@@ -80,7 +80,7 @@ inline const ml::CompileResult& cached(const std::string& name) {
   return cache.emplace(name, std::move(r)).first->second;
 }
 
-// Two boxes through each other (so the BSP splits) with a textured and a double-sided masked material:
+// Two boxes through each other (so the BSP splits) with a textured (4 x 4 texels) and a double-sided masked material:
 // a small scene whose blob has every section.
 inline ml::SceneMesh crossing_boxes_mesh() {
   using namespace ml;
@@ -91,6 +91,10 @@ inline ml::SceneMesh crossing_boxes_mesh() {
   b.alpha_mode = AlphaMode::Mask;
   mesh.materials = {a, b};
   mesh.texture_images = {0};
+  MeshImage image;  // 4 x 4, three colours: stored as an 8-bit palette texture
+  image.width = image.height = 4;
+  for (int i = 0; i < 16; ++i) image.rgba.insert(image.rgba.end(), {uint8_t(i % 3 * 100), 80, uint8_t(i / 5 * 60), 255});
+  mesh.images = {image};
   MeshNode root;
   root.name = "root";
   mesh.nodes.push_back(root);

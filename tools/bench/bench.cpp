@@ -229,10 +229,25 @@ ml::Status zbuffer_render(const ml::Scene& scene, const ml::Camera& camera, ml::
 
 int usage() {
   fprintf(stderr,
-          "usage: bench prepare default|office[:LAYERS]|tessellated[:TRIANGLES]|FILE OUT.mls\n"
+          "usage: bench prepare default|office[:LAYERS]|tessellated[:TRIANGLES]|banded|banded-plain|FILE|plain:FILE OUT.mls\n"
           "       bench frame SCENE.mls tiler|scanline|zbuffer WxH AA [flat|gouraud] [BAND_ROWS [FORMAT]]\n"
           "       bench quality SCENE.mls WxH\n");
   return 2;
+}
+
+// The same scene without texels (every texture draws its material colour): the untextured baseline of
+// a textured frame. An empty path is the banded scene.
+ml::CompileResult compile_untextured(const std::string& path) {
+  ml::SceneMesh mesh;
+  if (path.empty()) {
+    mesh = ml::make_banded_scene();
+  } else {
+    std::vector<std::string> warnings;
+    ml::CompileResult failed;
+    if (!ml::import_gltf_file(path, &mesh, &warnings, &failed.error)) return failed;
+  }
+  mesh.images.clear();
+  return ml::compile_mesh(mesh);
 }
 
 int prepare(const std::string& what, const std::string& out) {
@@ -243,6 +258,8 @@ int prepare(const std::string& what, const std::string& out) {
   if (kind == "default") result = ml::build_default_scene();
   else if (kind == "office") result = ml::build_office_scene(arg.empty() ? 8 : atoi(arg.c_str()));
   else if (kind == "tessellated") result = ml::build_tessellated_scene(arg.empty() ? 100000u : uint32_t(atol(arg.c_str())));
+  else if (kind == "banded") result = ml::build_banded_scene();
+  else if (kind == "banded-plain" || kind == "plain") result = compile_untextured(kind == "plain" ? arg : "");
   else result = ml::compile_gltf_file(what);
   if (!result.ok) {
     fprintf(stderr, "bench: %s\n", result.error.c_str());

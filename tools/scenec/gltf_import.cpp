@@ -14,6 +14,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include <stb/stb_image.h>
 #include <tiny_gltf.h>
 
 #include "tools/scenec/limits.h"
@@ -108,10 +109,50 @@ std::vector<std::string> split_lines(const std::string& text) {
   return lines;
 }
 
-// Images are references only: keep the metadata, decode nothing.
-bool keep_image_reference(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-                          const unsigned char*, int, void*) {
+// Decodes an image (PNG, JPEG, ... through stb_image) to RGBA8, after checking its size in the header.
+// An image that cannot be decoded is left empty with a warning: its textures draw the material colour.
+bool decode_image(tinygltf::Image* image, const int index, std::string*, std::string* warn, int, int,
+                  const unsigned char* bytes, int size, void* user) {
+  uint64_t& budget = *static_cast<uint64_t*>(user);  // pixels the file's images may still decode to
+  const std::string which = "image " + std::to_string(index);
+  int w = 0, h = 0, comp = 0;
+  if (size <= 0 || !stbi_info_from_memory(bytes, size, &w, &h, &comp)) {
+    if (warn) *warn += which + ": not a decodable image, texture ignored\n";
+    return true;
+  }
+  if (w <= 0 || h <= 0 || uint64_t(w) * uint64_t(h) > budget) {
+    if (warn) *warn += which + ": " + std::to_string(w) + "x" + std::to_string(h) + " is above the " +
+                       std::to_string(kMaxImagePixels) + "-pixel limit of a file's images, texture ignored\n";
+    return true;
+  }
+  budget -= uint64_t(w) * uint64_t(h);
+  unsigned char* pixels = stbi_load_from_memory(bytes, size, &w, &h, &comp, 4);
+  if (!pixels) {
+    if (warn) *warn += which + ": decoding failed (" + std::string(stbi_failure_reason()) + "), texture ignored\n";
+    return true;
+  }
+  image->width = w;
+  image->height = h;
+  image->component = 4;
+  image->bits = 8;
+  image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  image->image.assign(pixels, pixels + size_t(w) * size_t(h) * 4);
+  stbi_image_free(pixels);
   return true;
+}
+
+TextureWrap wrap_mode(int gl) {
+  if (gl == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return TextureWrap::MirroredRepeat;
+  if (gl == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return TextureWrap::ClampToEdge;
+  return TextureWrap::Repeat;
+}
+
+// The number at value[i] (or value itself when i < 0), or fallback.
+double number_at(const tinygltf::Value& value, int i, double fallback) {
+  const tinygltf::Value& v = i < 0 ? value : (value.IsArray() && i < int(value.ArrayLen()) ? value.Get(i) : value);
+  if ((i >= 0 && !(value.IsArray() && i < int(value.ArrayLen()))) || !v.IsNumber()) return fallback;
+  const double d = v.GetNumberAsDouble();
+  return std::isfinite(d) ? d : fallback;
 }
 
 // v / |v| into out, scaled by the largest component first so the squares neither overflow (1e200)
@@ -242,6 +283,25 @@ class Importer {
     for (size_t i = 0; i < model_.textures.size(); ++i) {
       const int source = model_.textures[i].source;
       mesh_.texture_images.push_back(source >= 0 ? uint32_t(source) : kNone);
+      MeshSampler sampler;
+      const int si = model_.textures[i].sampler;
+      if (si >= 0 && size_t(si) < model_.samplers.size()) {
+        const tinygltf::Sampler& gl = model_.samplers[size_t(si)];
+        sampler.wrap_s = wrap_mode(gl.wrapS);
+        sampler.wrap_t = wrap_mode(gl.wrapT);
+        if (gl.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST) sampler.filter = TextureFilter::Nearest;
+      }
+      mesh_.texture_samplers.push_back(sampler);
+    }
+    for (const tinygltf::Image& image : model_.images) {
+      MeshImage out;
+      if (image.component == 4 && image.bits == 8 && !image.image.empty() &&
+          image.image.size() == size_t(image.width) * size_t(image.height) * 4) {
+        out.width = image.width;
+        out.height = image.height;
+        out.rgba = image.image;
+      }
+      mesh_.images.push_back(std::move(out));
     }
     for (size_t m = 0; m < mesh_.materials.size(); ++m) {
       const uint32_t t = mesh_.materials[m].texture;
@@ -280,7 +340,8 @@ class Importer {
           ext == "KHR_meshopt_compression") {
         return fail("required extension " + ext + " is not supported");
       }
-      if (ext != "KHR_mesh_quantization") warn("required extension " + ext + " ignored");
+      if (ext != "KHR_mesh_quantization" && ext != "KHR_texture_transform")
+        warn("required extension " + ext + " ignored");
     }
     return true;
   }
@@ -322,8 +383,10 @@ class Importer {
     } else {
       for (double& c : out.base_color) c = 1.0;
     }
-    const int tex = m.pbrMetallicRoughness.baseColorTexture.index;
+    const tinygltf::TextureInfo& info = m.pbrMetallicRoughness.baseColorTexture;
+    const int tex = info.index;
     out.texture = tex >= 0 ? uint32_t(tex) : kNone;
+    uv_transforms_.push_back(texture_transform(info, m.name));
     out.double_sided = m.doubleSided;
     if (m.alphaMode == "OPAQUE" || m.alphaMode.empty()) {
       out.alpha_mode = AlphaMode::Opaque;
@@ -337,6 +400,27 @@ class Importer {
     }
     out.alpha_cutoff = std::isfinite(m.alphaCutoff) ? m.alphaCutoff : 0.5;
     return out;
+  }
+
+  // KHR_texture_transform of a base-colour texture as a 2x3 matrix on (u, v, 1): uv' = T R S uv.
+  // The compiler applies it to the vertices of the primitives using the material.
+  std::array<double, 6> texture_transform(const tinygltf::TextureInfo& info, const std::string& name) {
+    std::array<double, 6> m = {1, 0, 0, 0, 1, 0};
+    int tex_coord = info.texCoord;
+    const auto it = info.extensions.find("KHR_texture_transform");
+    if (it != info.extensions.end() && it->second.IsObject()) {
+      const tinygltf::Value& t = it->second;
+      const tinygltf::Value offset = t.Get("offset"), scale = t.Get("scale"), rotation = t.Get("rotation");
+      const double ox = number_at(offset, 0, 0), oy = number_at(offset, 1, 0);
+      const double sx = number_at(scale, 0, 1), sy = number_at(scale, 1, 1);
+      const double r = number_at(rotation, -1, 0);
+      m = {std::cos(r) * sx, std::sin(r) * sy, ox, -std::sin(r) * sx, std::cos(r) * sy, oy};
+      if (t.Has("texCoord")) tex_coord = int(number_at(t.Get("texCoord"), -1, 0));
+    }
+    if (tex_coord != 0 && info.index >= 0)
+      warn("material '" + name + "': base colour texture uses TEXCOORD_" + std::to_string(tex_coord) +
+           ", only TEXCOORD_0 is supported (used instead)");
+    return m;
   }
 
   uint32_t default_material() {
@@ -677,8 +761,11 @@ class Importer {
           normalize3(t, v.normal);
         }
         if (!uv.empty()) {
-          v.uv[0] = uv[i * 2];
-          v.uv[1] = uv[i * 2 + 1];
+          const std::array<double, 6>& t = out.material < uv_transforms_.size() ? uv_transforms_[out.material]
+                                                                                : kIdentityUv;
+          const double u0 = uv[i * 2], v0 = uv[i * 2 + 1];
+          v.uv[0] = t[0] * u0 + t[1] * v0 + t[2];
+          v.uv[1] = t[3] * u0 + t[4] * v0 + t[5];
         }
       }
       const size_t n = indices.size();
@@ -709,6 +796,8 @@ class Importer {
   std::vector<std::string>& warnings_;
   std::string* error_ = nullptr;
   std::vector<char> on_path_;
+  std::vector<std::array<double, 6>> uv_transforms_;  // per glTF material (texture_transform)
+  static constexpr std::array<double, 6> kIdentityUv = {1, 0, 0, 0, 1, 0};
   uint32_t default_material_ = kNone;
   bool warned_skin_ = false;
   size_t total_triangles_ = 0;
@@ -751,7 +840,8 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
       return false;
     }
     tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(&keep_image_reference, nullptr);
+    uint64_t image_budget = kMaxImagePixels;
+    loader.SetImageLoader(&decode_image, &image_budget);
     tinygltf::FsCallbacks fs{};
     fs.ExpandFilePath = &tinygltf::ExpandFilePath;
     fs.WriteWholeFile = &no_file_write;

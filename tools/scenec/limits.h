@@ -38,5 +38,9 @@ constexpr size_t kMaxNodeInstances = size_t(1) << 20;
 // computed from accessor counts before any accessor is read.
 constexpr size_t kMaxTriangles = size_t(1) << 27;
 constexpr size_t kMaxVertices = size_t(1) << 27;
+// The images of one file are decoded only up to this many pixels in all (each image's size is read
+// from its header first); an image beyond the budget is refused with a warning and its textures draw
+// the material colour. 2^24 pixels decode to 64 MiB of RGBA.
+constexpr uint64_t kMaxImagePixels = uint64_t(1) << 24;
 
 }  // namespace ml

@@ -294,6 +294,70 @@ SceneMesh make_tessellated_scene(uint32_t min_triangles) {
 
 CompileResult build_default_scene(const CompileOptions& options) { return compile_mesh(make_default_scene(), options); }
 
+// An RGBA8 image of w x h from f(x, y) -> 0xRRGGBB.
+template <typename F>
+MeshImage make_image(int w, int h, F f) {
+  MeshImage image;
+  image.width = w;
+  image.height = h;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const uint32_t c = f(x, y);
+      image.rgba.insert(image.rgba.end(), {uint8_t(c >> 16), uint8_t(c >> 8), uint8_t(c), 255});
+    }
+  return image;
+}
+
+SceneMesh make_banded_scene() {
+  Builder b;
+  SceneMesh& mesh = b.mesh();
+  const uint32_t root = b.node("bands", kNone);
+  // Four textures, top band first. Sizes are chosen so that neighbours sum to half of the total:
+  // 64x64 RGB565 (8192 B), 64x64 8-colour palette (4112 B), 128x64 grey (4096 B), 128x64 8-colour
+  // palette (8208 B). Formats follow from the images under TextureFormatChoice::Auto.
+  static const uint32_t kStripes[8] = {0xE6194B, 0x3CB44B, 0xFFE119, 0x4363D8, 0xF58231, 0x911EB4, 0x46F0F0, 0xF032E6};
+  mesh.images.push_back(make_image(64, 64, [](int x, int y) {
+    const bool check = ((x / 8) + (y / 8)) % 2 == 0;
+    return uint32_t(check ? (x * 4) << 16 | (y * 4) << 8 | 0x40 : 0xF0F0F0 - uint32_t(x + y));
+  }));
+  mesh.images.push_back(make_image(64, 64, [](int x, int y) { return kStripes[((x + y) / 8) % 8]; }));
+  mesh.images.push_back(make_image(128, 64, [](int x, int y) {
+    const int dx = x - 64, dy = y - 32;
+    const uint32_t g = uint32_t(((dx * dx + dy * dy) / 40) % 16) * 17;
+    return g << 16 | g << 8 | g;
+  }));
+  mesh.images.push_back(make_image(128, 64, [](int x, int y) { return kStripes[(x / 16 + (y / 16) * 3) % 8]; }));
+  const MeshSampler samplers[4] = {{TextureWrap::Repeat, TextureWrap::Repeat, TextureFilter::Nearest},
+                                   {TextureWrap::MirroredRepeat, TextureWrap::MirroredRepeat, TextureFilter::Nearest},
+                                   {TextureWrap::ClampToEdge, TextureWrap::ClampToEdge, TextureFilter::Nearest},
+                                   {TextureWrap::Repeat, TextureWrap::Repeat, TextureFilter::Bilinear}};
+  // Bands 1.0 high with 0.12 of overlap; odd bands sit slightly in front so the overlap is decided.
+  const double repeat_u[4] = {3, 2.5, 1.3, 2}, repeat_v[4] = {0.75, 0.6, 1.2, 0.5};
+  for (int k = 0; k < 4; ++k) {
+    mesh.texture_images.push_back(uint32_t(k));
+    mesh.texture_samplers.push_back(samplers[k]);
+    const uint32_t m = b.material(1.0, 1.0, 1.0);
+    mesh.materials[m].texture = uint32_t(k);
+    MeshPrimitive& p = b.prim(b.node("band" + std::to_string(k), root), m);
+    const double top = 2.0 - k * 1.0 + 0.06, bottom = top - 1.12, z = (k % 2) * 0.05, x0 = -2.6, x1 = 2.6;
+    const V3 n{0, 0, 1};
+    const double ru = repeat_u[k], rv = repeat_v[k];
+    // Texture coordinates start a little left of and above 0 so that wrap modes matter.
+    const uint32_t i0 = Builder::vertex(p, {x0, bottom, z}, n, -0.25, rv);
+    const uint32_t i1 = Builder::vertex(p, {x1, bottom, z}, n, ru, rv);
+    const uint32_t i2 = Builder::vertex(p, {x1, top, z}, n, ru, -0.2);
+    const uint32_t i3 = Builder::vertex(p, {x0, top, z}, n, -0.25, -0.2);
+    p.triangles.push_back({i0, i1, i2});
+    p.triangles.push_back({i0, i2, i3});
+  }
+  set_camera(&mesh, {0.4, 0.3, 5.6}, {0, 0, 0});
+  return std::move(mesh);
+}
+
+CompileResult build_banded_scene(const CompileOptions& options) {
+  return compile_mesh(make_banded_scene(), options);
+}
+
 CompileResult build_office_scene(int layers, const CompileOptions& options) {
   return compile_mesh(make_office_scene(layers), options);
 }

@@ -86,17 +86,41 @@ struct CameraHint {
   double up[3] = {0, 1, 0};
 };
 
+// A decoded image, RGBA8 rows top first; empty (0 x 0) when it was not or could not be decoded.
+struct MeshImage {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgba;
+};
+
+// A glTF texture's sampler.
+struct MeshSampler {
+  TextureWrap wrap_s = TextureWrap::Repeat, wrap_t = TextureWrap::Repeat;
+  TextureFilter filter = TextureFilter::Bilinear;
+};
+
 struct SceneMesh {
   std::vector<MeshMaterial> materials;
   std::vector<uint32_t> texture_images;   // TextureRef::image per texture (glTF image index)
+  std::vector<MeshSampler> texture_samplers;  // per texture (missing entries: the default sampler)
+  std::vector<MeshImage> images;          // by image index (missing or empty: the texture has no texels)
   std::vector<MeshNode> nodes;            // depth-first order (a parent before its children)
   CameraHint camera;                      // optional, source units
 };
 
 // ---- compiling -------------------------------------------------------------------------------------
 
+// How textures are stored (tools/scenec/textures.cpp, docs/textures.md).
+enum class TextureFormatChoice : uint8_t {
+  Auto,      // Grey4 for grey images of at most 16 levels, Palette8 for at most 256 colours, else RGB565
+  Rgb565,
+  Palette8,  // median-cut to at most 256 colours
+  Grey4,     // luma, 16 levels (grey panels)
+};
+
 struct CompileOptions {
   bool build_bsp = true;
+  TextureFormatChoice texture_format = TextureFormatChoice::Auto;
+  int texture_max_size = 256;         // longest texture side after resampling, a power of two <= 1024
   // BSP plane choice (tools/scenec/bsp.cpp). Defaults measured on the procedural scenes and
   // 2CylinderEngine: lower split ratios cost depth and build time.
   uint32_t bsp_seed = 1;              // plane sampling is deterministic for a given seed
@@ -116,6 +140,7 @@ struct CompileReport {
   uint32_t materials = 0;
   uint32_t batches = 0;
   uint32_t textures = 0;
+  uint32_t texture_bytes = 0;   // texels and palettes, all textures
   uint32_t bsp_nodes = 0;
   uint32_t bsp_pieces = 0;
   uint32_t bsp_depth = 0;
@@ -155,6 +180,17 @@ CompileResult compile_gltf_memory(const unsigned char* bytes, size_t size,
 // units), quantize each batch to int16 over its own box, build the BSP, write and checksum the blob.
 CompileResult compile_mesh(const SceneMesh& mesh, const CompileOptions& options = CompileOptions());
 
+// ---- textures (tools/scenec/textures.cpp) ------------------------------------------------------------
+
+// One texture in its device format: TextureTexels (offset 0) and its bytes.
+struct EncodedTexture {
+  TextureTexels info{};
+  std::vector<uint8_t> bytes;
+};
+// Resamples an RGBA8 image to power-of-two sides of at most options.texture_max_size and encodes it.
+// An empty image gives format None.
+EncodedTexture encode_texture(const MeshImage& image, const MeshSampler& sampler, const CompileOptions& options);
+
 // ---- procedural scenes -------------------------------------------------------------------------------
 
 // The bundled scene (the CLI's default): a checkered ground with a cube, a smooth sphere, a torus and a
@@ -169,6 +205,11 @@ CompileResult build_office_scene(int layers = 8, const CompileOptions& options =
 
 // A smooth, finely tessellated torus knot with at least min_triangles triangles (scanline benchmark).
 SceneMesh make_tessellated_scene(uint32_t min_triangles);
+
+// Woo and Chall's Fig. 10 residency test: four textured quads, each a horizontal band of the view
+// with its own texture (different sizes and formats), overlapping their neighbours by a few rows.
+SceneMesh make_banded_scene();
+CompileResult build_banded_scene(const CompileOptions& options = CompileOptions());
 CompileResult build_tessellated_scene(uint32_t min_triangles = 100000,
                                       const CompileOptions& options = CompileOptions());
 

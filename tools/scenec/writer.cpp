@@ -202,6 +202,24 @@ CompileResult compile_mesh(const SceneMesh& mesh, const CompileOptions& options)
     }
     std::vector<TextureRef> textures;
     for (uint32_t image : mesh.texture_images) textures.push_back(TextureRef{image, 0});
+    // Texels: each texture encoded from its image (none when the image is missing), 4-aligned.
+    std::vector<TextureTexels> texture_texels;
+    std::vector<uint8_t> texels;
+    bool any_texels = false;
+    for (size_t t = 0; t < mesh.texture_images.size(); ++t) {
+      const uint32_t image = mesh.texture_images[t];
+      const MeshImage none;
+      const MeshImage& img = image < mesh.images.size() ? mesh.images[image] : none;
+      const MeshSampler sampler = t < mesh.texture_samplers.size() ? mesh.texture_samplers[t] : MeshSampler();
+      EncodedTexture enc = encode_texture(img, sampler, options);
+      if (enc.info.format != uint8_t(TexelFormat::None)) {
+        enc.info.offset = uint32_t(texels.size());
+        texels.insert(texels.end(), enc.bytes.begin(), enc.bytes.end());
+        while (texels.size() % 4) texels.push_back(0);
+        any_texels = true;
+      }
+      texture_texels.push_back(enc.info);
+    }
 
     std::vector<Batch> batches;
     std::vector<Vertex> vertices;
@@ -316,6 +334,11 @@ CompileResult compile_mesh(const SceneMesh& mesh, const CompileOptions& options)
       writer.add(SectionType::BspPieces, bsp.pieces);
     }
     if (!textures.empty()) writer.add(SectionType::Textures, textures);
+    if (any_texels) {
+      while (texels.size() % 8) texels.push_back(0);  // the blob keeps ending on a multiple of 8
+      writer.add(SectionType::TextureTexels, texture_texels);
+      writer.add(SectionType::Texels, texels);
+    }
     if (!writer.finish(&result.blob, &result.error)) return result;
 
     // The reader is the judge: a blob it refuses is a compiler bug, reported rather than returned.
@@ -334,6 +357,7 @@ CompileResult compile_mesh(const SceneMesh& mesh, const CompileOptions& options)
     r.materials = uint32_t(materials.size());
     r.batches = uint32_t(batches.size());
     r.textures = uint32_t(textures.size());
+    for (const TextureTexels& t : texture_texels) r.texture_bytes += t.bytes;
     r.bsp_nodes = uint32_t(bsp.nodes.size());
     r.bsp_pieces = uint32_t(bsp.pieces.size());
     r.bsp_depth = bsp.depth;

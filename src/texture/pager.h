@@ -1,0 +1,93 @@
+// The lazy texture pager (Woo & Chall §5): a bounded pool in the arena holds the textures the rows
+// in flight need. A texture is read through its TextureSource the first time a visible sample needs
+// it and freed after the last row that uses it (the renderer plans each texture's last row before
+// drawing and reports rows as they finish). When the pool has no room, resident textures are evicted
+// — first those no active triangle uses, then the least recently sampled — and read again if needed
+// later, so a frame never fails for lack of texture memory. A texture that cannot be read, or is
+// larger than the whole pool, is drawn in its material's colour (a fallback). docs/textures.md.
+#pragma once
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/arena.h"
+#include "core/stats.h"
+#include "core/status.h"
+#include "scene/scene.h"
+#include "texture/source.h"
+
+namespace ml {
+
+// Pool sizes for a scene: `desired` holds every texture at once (never evicts), `minimum` holds the
+// largest one (every texture can be drawn, with reloads). Both 0 for a scene without texels.
+struct TexturePoolNeeds {
+  uint32_t desired = 0, minimum = 0;
+};
+TexturePoolNeeds texture_pool_needs(const Scene& scene);
+
+class TexturePager {
+ public:
+  // Arena bytes begin() takes for a pool of (at most) pool_bytes: 0 for a scene without texels.
+  static size_t arena_bytes(const Scene& scene, uint32_t pool_bytes);
+
+  // Sets up the pool (min(pool_bytes, desired)) and the per-texture table. source null: the blob's
+  // own Texels. ArenaTooSmall when the arena cannot hold arena_bytes(). Inactive (every call below a
+  // no-op, get() null) for a scene without texels.
+  Status begin(const Scene& scene, TextureSource* source, uint32_t pool_bytes, Arena& arena, Stats* stats);
+  bool active() const { return slots_ != nullptr; }
+
+  // Planning, before the first get(): texture t is used up to row `last_row` (any increasing unit the
+  // renderer reports with rows_done).
+  void plan(uint32_t t, uint32_t last_row);
+  void finish_plan();
+
+  // The texture's bytes, reading them if needed; null for a fallback (the read failed or the texture
+  // is larger than the pool; counted once per frame and texture).
+  const uint8_t* get(uint32_t t) {
+    if (slots_ && t < count_ && slots_[t].state == kResident) {  // the common case, inline
+      slots_[t].touch = ++clock_;
+      return pool_ + slots_[t].offset;
+    }
+    return load(t);
+  }
+
+  // Active triangles using t (the scanline renderer's yActiveList): used to choose evictions.
+  void add_user(uint32_t t);
+  void drop_user(uint32_t t);
+
+  // Every row up to `row` is finished: frees the textures whose last row that was.
+  void rows_done(uint32_t row);
+
+ private:
+  struct Slot {
+    uint32_t offset;     // in the pool, while resident
+    uint32_t touch;      // get() count at the last use
+    uint32_t last_row;   // planned last use; kNone: never freed early
+    uint16_t users;
+    uint8_t state;       // kAbsent, kResident, kFailed
+    uint8_t loaded;      // read at least once this frame
+  };
+  static constexpr uint8_t kAbsent = 0, kResident = 1, kFailed = 2;
+
+  const uint8_t* load(uint32_t t);
+  bool find_room(uint32_t bytes, uint32_t* offset) const;
+  bool evict_one(uint32_t keep);
+  void release(uint32_t t);
+  void fallback(uint32_t t);
+
+  const Scene* scene_ = nullptr;
+  TextureSource* source_ = nullptr;
+  BlobTextureSource blob_source_;
+  Stats* stats_ = nullptr;
+  uint8_t* pool_ = nullptr;
+  uint32_t pool_bytes_ = 0;
+  Slot* slots_ = nullptr;
+  uint32_t count_ = 0;
+  uint32_t* resident_ = nullptr;  // resident textures by pool offset
+  uint32_t resident_count_ = 0;
+  uint32_t resident_bytes_ = 0;
+  uint32_t* free_order_ = nullptr;  // textures by last row
+  uint32_t next_free_ = 0;
+  uint32_t clock_ = 0;
+};
+
+}  // namespace ml

@@ -1,0 +1,86 @@
+#include "tests/oracle/texturer.h"
+
+#include <cmath>
+
+namespace oracle {
+namespace {
+
+Vec3 sub(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+Vec3 add(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+Vec3 scale(const Vec3& a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+Vec3 normalized(const Vec3& a) { return scale(a, 1.0 / std::sqrt(dot(a, a))); }
+
+int wrap(long i, int n, Wrap mode) {
+  if (mode == Wrap::Clamp) return int(i < 0 ? 0 : (i >= n ? n - 1 : i));
+  long m = ((i % (2L * n)) + 2L * n) % (2L * n);
+  if (mode == Wrap::Repeat) return int(m % n);
+  return int(m < n ? m : 2L * n - 1 - m);
+}
+
+double channel(uint32_t c, int k) { return double((c >> (16 - 8 * k)) & 0xFF); }
+
+}  // namespace
+
+std::vector<TexturedPixel> texture_image(const std::vector<Triangle>& triangles, const std::vector<Surface>& surfaces,
+                                         const std::vector<Texture>& textures, const Camera& cam,
+                                         const Result& visible, double texel_margin, double edge_margin) {
+  std::vector<TexturedPixel> out(size_t(cam.width) * size_t(cam.height));
+  const Vec3 forward = normalized(sub(cam.target, cam.eye));
+  const Vec3 right = normalized(cross(forward, cam.up));
+  const Vec3 down = cross(forward, right);
+  const double focal = (cam.height / 2.0) / std::tan(cam.vfov_deg * M_PI / 360.0);
+  for (int y = 0; y < cam.height; ++y)
+    for (int x = 0; x < cam.width; ++x) {
+      const size_t i = visible.index(x, y);
+      const int64_t id = visible.id[i];
+      if (id < 0 || !visible.decisive(x, y, edge_margin)) continue;
+      const Surface& s = surfaces[size_t(id)];
+      if (s.texture < 0) continue;
+      const Triangle& t = triangles[size_t(id)];
+      const Vec3 dir = add(forward, add(scale(right, (x + 0.5 - cam.width / 2.0) / focal),
+                                        scale(down, (y + 0.5 - cam.height / 2.0) / focal)));
+      // Moller-Trumbore without the inside test (the rasterizer decided coverage).
+      const Vec3 e1 = sub(t.v[1], t.v[0]), e2 = sub(t.v[2], t.v[0]);
+      const Vec3 p = cross(dir, e2);
+      const double det = dot(e1, p);
+      if (std::fabs(det) < 1e-30) continue;
+      const Vec3 o = sub(cam.eye, t.v[0]);
+      const double b1 = dot(o, p) / det;
+      const double b2 = dot(dir, cross(o, e1)) / det;
+      const double b0 = 1 - b1 - b2;
+      const double u = b0 * s.uv[0][0] + b1 * s.uv[1][0] + b2 * s.uv[2][0];
+      const double v = b0 * s.uv[0][1] + b1 * s.uv[1][1] + b2 * s.uv[2][1];
+      const Texture& tex = textures[size_t(s.texture)];
+      double texel[3];
+      if (!tex.bilinear) {
+        const double su = u * tex.width, sv = v * tex.height;
+        const double fu = su - std::floor(su), fv = sv - std::floor(sv);
+        if (fu < texel_margin || fu > 1 - texel_margin || fv < texel_margin || fv > 1 - texel_margin) continue;
+        const uint32_t c = tex.rgb[size_t(wrap(long(std::floor(sv)), tex.height, tex.wrap_t)) * size_t(tex.width) +
+                                   size_t(wrap(long(std::floor(su)), tex.width, tex.wrap_s))];
+        for (int k = 0; k < 3; ++k) texel[k] = channel(c, k);
+      } else {
+        const double su = u * tex.width - 0.5, sv = v * tex.height - 0.5;
+        const long x0 = long(std::floor(su)), y0 = long(std::floor(sv));
+        const double fu = su - double(x0), fv = sv - double(y0);
+        for (int k = 0; k < 3; ++k) {
+          auto at = [&](long xx, long yy) {
+            return channel(tex.rgb[size_t(wrap(yy, tex.height, tex.wrap_t)) * size_t(tex.width) +
+                                   size_t(wrap(xx, tex.width, tex.wrap_s))], k);
+          };
+          texel[k] = (at(x0, y0) * (1 - fu) + at(x0 + 1, y0) * fu) * (1 - fv) +
+                     (at(x0, y0 + 1) * (1 - fu) + at(x0 + 1, y0 + 1) * fu) * fv;
+        }
+      }
+      TexturedPixel& px = out[i];
+      px.known = true;
+      for (int k = 0; k < 3; ++k) px.rgb[k] = texel[k] * channel(s.base, k) / 255.0;
+    }
+  return out;
+}
+
+}  // namespace oracle

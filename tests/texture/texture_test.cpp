@@ -1,0 +1,526 @@
+// Textures end to end: encoding in the compiler, the blob's texture fields and their validation, the
+// sampler, both renderers choosing the same texel at every pixel, and the pager's residency, pool
+// sweep, fault injection and bytes read (docs/textures.md).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <set>
+
+#include "platform/host/file_texture_source.h"
+#include "platform/host/png_io.h"
+#include "tests/scene/scene_test_util.h"
+#include "tests/texture/texture_test_util.h"
+#include "texture/sampler.h"
+#include "tools/scenec/scenec.h"
+
+namespace {
+
+using textest::Frame;
+using textest::load;
+
+ml::MeshImage image_of(int w, int h, uint32_t (*f)(int, int)) {
+  ml::MeshImage im;
+  im.width = w;
+  im.height = h;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const uint32_t c = f(x, y);
+      im.rgba.insert(im.rgba.end(), {uint8_t(c >> 16), uint8_t(c >> 8), uint8_t(c), 255});
+    }
+  return im;
+}
+
+
+// ---- compiler: formats ------------------------------------------------------------------------------
+
+TEST(TextureEncode, AutoPicksTheFormatFromTheImage) {
+  const ml::CompileOptions o;
+  const ml::MeshSampler s;
+  const auto grey = ml::encode_texture(image_of(16, 16, [](int x, int) { return uint32_t(x * 17) * 0x010101u; }), s, o);
+  EXPECT_EQ(grey.info.format, uint8_t(ml::TexelFormat::Grey4));
+  EXPECT_EQ(grey.info.bytes, 8u * 16u);
+  const auto few = ml::encode_texture(image_of(16, 16, [](int x, int y) { return uint32_t((x / 4 + y) % 5) * 0x304050u; }), s, o);
+  EXPECT_EQ(few.info.format, uint8_t(ml::TexelFormat::Palette8));
+  EXPECT_LE(few.info.palette_size, 5u);
+  EXPECT_EQ(few.info.bytes, few.info.palette_size * 2u + 256u);
+  const auto many = ml::encode_texture(image_of(32, 32, [](int x, int y) { return uint32_t(x * 8) << 16 | uint32_t(y * 8) << 8 | 7; }), s, o);
+  EXPECT_EQ(many.info.format, uint8_t(ml::TexelFormat::Rgb565));
+  EXPECT_EQ(many.info.bytes, 32u * 32u * 2u);
+  EXPECT_EQ(many.bytes.size(), many.info.bytes);
+}
+
+TEST(TextureEncode, PaletteOfTheSameColoursIsExact) {
+  const ml::MeshSampler s;
+  ml::CompileOptions o;
+  const auto img = image_of(8, 8, [](int x, int y) { return (x + y) % 3 == 0 ? 0xF80000u : (x % 2 ? 0x00FC00u : 0x0000F8u); });
+  const auto pal = ml::encode_texture(img, s, o);
+  o.texture_format = ml::TextureFormatChoice::Rgb565;
+  const auto direct = ml::encode_texture(img, s, o);
+  ASSERT_EQ(pal.info.format, uint8_t(ml::TexelFormat::Palette8));
+  ASSERT_EQ(direct.info.format, uint8_t(ml::TexelFormat::Rgb565));
+  for (int i = 0; i < 64; ++i) {
+    const uint8_t index = pal.bytes[2 * pal.info.palette_size + size_t(i)];
+    EXPECT_EQ(pal.bytes[2 * index], direct.bytes[2 * size_t(i)]);
+    EXPECT_EQ(pal.bytes[2 * index + 1], direct.bytes[2 * size_t(i) + 1]);
+  }
+}
+
+TEST(TextureEncode, MedianCutKeepsAtMost256CloseColours) {
+  ml::CompileOptions o;
+  o.texture_format = ml::TextureFormatChoice::Palette8;
+  const auto img = image_of(64, 64, [](int x, int y) { return uint32_t(x * 4) << 16 | uint32_t(y * 4) << 8 | uint32_t((x + y) * 2); });
+  const auto e = ml::encode_texture(img, ml::MeshSampler(), o);
+  ASSERT_EQ(e.info.format, uint8_t(ml::TexelFormat::Palette8));
+  EXPECT_GT(e.info.palette_size, 200u);
+  EXPECT_LE(e.info.palette_size, 256u);
+  // Every texel is near its colour: 4096 colours in 256 boxes leave a few steps per channel.
+  const uint8_t* idx = e.bytes.data() + 2 * e.info.palette_size;
+  double worst = 0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const size_t i = size_t(idx[y * 64 + x]);
+      const uint32_t v = e.bytes[2 * i] | uint32_t(e.bytes[2 * i + 1]) << 8;
+      const int r = int((v >> 11) & 31) * 255 / 31, g = int((v >> 5) & 63) * 255 / 63;
+      worst = std::max(worst, double(std::max(std::abs(r - x * 4), std::abs(g - y * 4))));
+    }
+  EXPECT_LT(worst, 40);
+}
+
+TEST(TextureEncode, SidesBecomePowersOfTwoWithinTheLimit) {
+  ml::CompileOptions o;
+  const auto e = ml::encode_texture(image_of(100, 30, [](int x, int) { return uint32_t(x) * 0x020301u; }), ml::MeshSampler(), o);
+  EXPECT_EQ(e.info.width, 128u);
+  EXPECT_EQ(e.info.height, 32u);
+  o.texture_max_size = 64;
+  const auto capped = ml::encode_texture(image_of(300, 300, [](int x, int y) { return uint32_t(x ^ y); }), ml::MeshSampler(), o);
+  EXPECT_EQ(capped.info.width, 64u);
+  EXPECT_EQ(capped.info.height, 64u);
+  const auto none = ml::encode_texture(ml::MeshImage(), ml::MeshSampler(), o);
+  EXPECT_EQ(none.info.format, uint8_t(ml::TexelFormat::None));
+  EXPECT_EQ(none.info.bytes, 0u);
+}
+
+// ---- compiler: glTF images, samplers and KHR_texture_transform --------------------------------------
+
+TEST(TextureImport, ImagesSamplersAndTextureTransform) {
+  const std::string dir = scenetest::temp_dir();
+  std::vector<ml::Pixel> px(4 * 2);
+  for (size_t i = 0; i < px.size(); ++i) px[i] = ml::Pixel(i * 0x102030u);
+  ASSERT_EQ(mlhost::write_png_rgb(dir + "/t.png", 4, 2, px), "");
+  const std::vector<float> data = {0, 0, 0, 1, 0, 0, 0, 1, 0,  // positions
+                                   0, 0, 1, 0, 0, 1};          // uvs
+  std::vector<uint8_t> bytes(data.size() * 4);
+  std::memcpy(bytes.data(), data.data(), bytes.size());
+  const std::string json = std::string("{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_texture_transform\"],") +
+      "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]," +
+      "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1},\"material\":0}]}]," +
+      "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0,\"extensions\":" +
+      "{\"KHR_texture_transform\":{\"offset\":[0.5,0.25],\"scale\":[2,3]}}}}}]," +
+      "\"textures\":[{\"source\":0,\"sampler\":0}],\"images\":[{\"uri\":\"t.png\"}]," +
+      "\"samplers\":[{\"wrapS\":33648,\"wrapT\":33071,\"magFilter\":9728}]," +
+      "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}," +
+      "{\"bufferView\":1,\"componentType\":5126,\"count\":3,\"type\":\"VEC2\"}]," +
+      "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},{\"buffer\":0,\"byteOffset\":36,\"byteLength\":24}]," +
+      "\"buffers\":[{\"byteLength\":60,\"uri\":\"data:application/octet-stream;base64," + scenetest::base64(bytes) + "\"}]}";
+  scenetest::write_file(dir + "/t.gltf", json);
+  ml::SceneMesh mesh;
+  std::vector<std::string> warnings;
+  std::string error;
+  ASSERT_TRUE(ml::import_gltf_file(dir + "/t.gltf", &mesh, &warnings, &error)) << error;
+  ASSERT_EQ(mesh.images.size(), 1u);
+  EXPECT_EQ(mesh.images[0].width, 4);
+  EXPECT_EQ(mesh.images[0].height, 2);
+  EXPECT_EQ(mesh.images[0].rgba[4 * 3 + 0], 0x30);  // pixel 1 is 0x102030
+  ASSERT_EQ(mesh.texture_samplers.size(), 1u);
+  EXPECT_EQ(mesh.texture_samplers[0].wrap_s, ml::TextureWrap::MirroredRepeat);
+  EXPECT_EQ(mesh.texture_samplers[0].wrap_t, ml::TextureWrap::ClampToEdge);
+  EXPECT_EQ(mesh.texture_samplers[0].filter, ml::TextureFilter::Nearest);
+  const auto& v = mesh.nodes.at(0).primitives.at(0).vertices;
+  ASSERT_EQ(v.size(), 3u);
+  const double expect[3][2] = {{0.5, 0.25}, {2.5, 0.25}, {0.5, 3.25}};  // uv' = offset + scale * uv
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_DOUBLE_EQ(v[size_t(i)].uv[0], expect[i][0]);
+    EXPECT_DOUBLE_EQ(v[size_t(i)].uv[1], expect[i][1]);
+  }
+  const ml::CompileResult r = ml::compile_gltf_file(dir + "/t.gltf");
+  ASSERT_TRUE(r.ok) << r.error;
+  ml::Scene scene;
+  ASSERT_TRUE(scenetest::read(r.blob, &scene).ok());
+  ASSERT_EQ(scene.texture_texels_count, 1u);
+  EXPECT_EQ(scene.texture_texels[0].width, 4u);
+  EXPECT_EQ(scene.texture_texels[0].height, 2u);
+}
+
+TEST(TextureImport, UndecodableImageDrawsTheMaterialColour) {
+  const std::string dir = scenetest::temp_dir();
+  scenetest::write_file(dir + "/bad.png", "not a png");
+  const std::string src = textest::model("BoxTextured-glTF/BoxTextured.gltf");
+  std::ifstream in(src);
+  std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t at = json.find("CesiumLogoFlat.png");
+  ASSERT_NE(at, std::string::npos);
+  json.replace(at, 18, "bad.png");
+  std::filesystem::copy_file(textest::model("BoxTextured-glTF/BoxTextured0.bin"), dir + "/BoxTextured0.bin");
+  scenetest::write_file(dir + "/box.gltf", json);
+  const ml::CompileResult r = ml::compile_gltf_file(dir + "/box.gltf");
+  ASSERT_TRUE(r.ok) << r.error;
+  bool warned = false;
+  for (const auto& w : r.warnings) warned = warned || w.find("not a decodable image") != std::string::npos;
+  EXPECT_TRUE(warned);
+  ml::Scene scene;
+  ASSERT_TRUE(scenetest::read(r.blob, &scene).ok());
+  EXPECT_EQ(scene.texture_texels, nullptr);  // no texels at all: no sections
+  const ml::Camera cam = ml::frame_sphere(ml::Vec3i{0, 0, 0}, scene.info->sphere_radius, 64, 48, 45 << 16);
+  const Frame f = textest::render(scene, cam, textest::options(ml::RendererKind::Tiler));
+  ASSERT_TRUE(f.status.ok());
+  EXPECT_EQ(f.stats.texture_loads, 0u);
+  EXPECT_EQ(std::set<ml::Pixel>(f.pixels.begin(), f.pixels.end()).size(), 2u);  // base colour + background
+}
+
+// ---- the blob: validation ---------------------------------------------------------------------------
+
+TEST(TextureBlob, ReaderRejectsEveryBadTextureField) {
+  const mlhost::LoadedScene& banded = load("builtin:banded");
+  ASSERT_TRUE(banded.scene.texture_texels) << banded.name;
+  struct Case {
+    const char* message;
+    void (*mutate)(ml::TextureTexels*);
+  };
+  const Case cases[] = {
+      {"texture format invalid", [](ml::TextureTexels* t) { t->format = 4; }},
+      {"texture wrap mode invalid", [](ml::TextureTexels* t) { t->wrap_t = 3; }},
+      {"texture filter invalid", [](ml::TextureTexels* t) { t->filter = 2; }},
+      {"texture reserved field not zero", [](ml::TextureTexels* t) { t->reserved = 1; }},
+      {"texture size not a power of two up to limit", [](ml::TextureTexels* t) { t->width = 48; }},
+      {"texture size not a power of two up to limit", [](ml::TextureTexels* t) { t->height = 2048; }},
+      {"texture size not a power of two up to limit", [](ml::TextureTexels* t) { t->width = 0; }},
+      {"texture byte count wrong", [](ml::TextureTexels* t) { t->bytes += 4; }},
+      {"texture offset not 4-byte aligned", [](ml::TextureTexels* t) { t->offset += 2; }},
+      {"texture texels outside texels section", [](ml::TextureTexels* t) { t->offset = 0xFFFFFFF0u; }},
+      {"texture palette size invalid", [](ml::TextureTexels* t) { t->palette_size = 3; }},
+      {"empty texture not zero", [](ml::TextureTexels* t) { t->format = 0; }},
+  };
+  for (const Case& c : cases) {
+    ml::Blob blob = banded.blob;
+    c.mutate(scenetest::section<ml::TextureTexels>(&blob, ml::SectionType::TextureTexels));
+    scenetest::fix_crc(&blob);
+    const ml::Status s = scenetest::read(blob);
+    EXPECT_FALSE(s.ok()) << c.message;
+    EXPECT_STREQ(s.message, c.message);
+  }
+  // Palette textures: the palette size must be 1..256 (texture 1 is a palette texture).
+  ml::Blob blob = banded.blob;
+  ml::TextureTexels* t = scenetest::section<ml::TextureTexels>(&blob, ml::SectionType::TextureTexels) + 1;
+  ASSERT_EQ(t->format, uint8_t(ml::TexelFormat::Palette8));
+  t->palette_size = 0;
+  scenetest::fix_crc(&blob);
+  EXPECT_STREQ(scenetest::read(blob).message, "texture palette size invalid");
+  // One TextureTexels per TextureRef.
+  blob = banded.blob;
+  ml::SectionEntry* e = scenetest::find_section(&blob, ml::SectionType::TextureTexels);
+  e->count -= 1;
+  e->size -= sizeof(ml::TextureTexels);
+  scenetest::fix_crc(&blob);
+  EXPECT_STREQ(scenetest::read(blob).message, "texture texels count differs from textures");
+}
+
+// ---- sampler ----------------------------------------------------------------------------------------
+
+struct TinyTexture {
+  ml::TextureTexels t{};
+  std::vector<uint8_t> bytes;
+  // 4 x 2 RGB565 texels: texel (x, y) is red 8 * x, green 8 * y (exactly representable).
+  TinyTexture(ml::TextureWrap s, ml::TextureWrap w, ml::TextureFilter f) {
+    t.width = 4;
+    t.height = 2;
+    t.format = uint8_t(ml::TexelFormat::Rgb565);
+    t.wrap_s = uint8_t(s);
+    t.wrap_t = uint8_t(w);
+    t.filter = uint8_t(f);
+    t.bytes = 16;
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 4; ++x) {
+        const uint16_t v = uint16_t(x << 11 | (y * 2) << 5);
+        bytes.push_back(uint8_t(v));
+        bytes.push_back(uint8_t(v >> 8));
+      }
+  }
+  int texel_x(double u, double v = 0.25) const {
+    const int32_t uv[2] = {int32_t(std::lround(u * 65536)), int32_t(std::lround(v * 65536))};
+    return int(ml::red_of(ml::sample_texture(t, bytes.data(), uv)) / 8);
+  }
+};
+
+TEST(TextureSampler, WrapModesPickTheGltfTexel) {
+  using W = ml::TextureWrap;
+  const TinyTexture repeat(W::Repeat, W::Repeat, ml::TextureFilter::Nearest);
+  const TinyTexture mirror(W::MirroredRepeat, W::Repeat, ml::TextureFilter::Nearest);
+  const TinyTexture clamp(W::ClampToEdge, W::Repeat, ml::TextureFilter::Nearest);
+  const double us[] = {0.1, 0.3, 1.3, 1.8, -0.1, -0.3, -1.1, 2.6};
+  const int want_repeat[] = {0, 1, 1, 3, 3, 2, 3, 2};
+  const int want_mirror[] = {0, 1, 2, 0, 0, 1, 3, 2};
+  const int want_clamp[] = {0, 1, 3, 3, 0, 0, 0, 3};
+  for (size_t i = 0; i < sizeof(us) / sizeof(us[0]); ++i) {
+    EXPECT_EQ(repeat.texel_x(us[i]), want_repeat[i]) << us[i];
+    EXPECT_EQ(mirror.texel_x(us[i]), want_mirror[i]) << us[i];
+    EXPECT_EQ(clamp.texel_x(us[i]), want_clamp[i]) << us[i];
+  }
+}
+
+TEST(TextureSampler, BilinearBlendsNeighboursAndMatchesNearestAtCentres) {
+  const TinyTexture bi(ml::TextureWrap::ClampToEdge, ml::TextureWrap::ClampToEdge, ml::TextureFilter::Bilinear);
+  const TinyTexture near(ml::TextureWrap::ClampToEdge, ml::TextureWrap::ClampToEdge, ml::TextureFilter::Nearest);
+  for (int x = 0; x < 4; ++x) {
+    const int32_t uv[2] = {int32_t((2 * x + 1) * 65536 / 8), 65536 / 4};
+    EXPECT_EQ(ml::sample_texture(bi.t, bi.bytes.data(), uv), ml::sample_texture(near.t, near.bytes.data(), uv));
+  }
+  const int32_t mid[2] = {65536 / 4, 65536 / 4};  // between texels 0 and 1: half of red 8
+  EXPECT_EQ(ml::red_of(ml::sample_texture(bi.t, bi.bytes.data(), mid)), 4u);
+}
+
+TEST(TextureSampler, FormatsDecodeAndBadPaletteIndicesStayInside) {
+  ml::TextureTexels t{};
+  t.width = 2;
+  t.height = 1;
+  t.format = uint8_t(ml::TexelFormat::Grey4);
+  t.bytes = 1;
+  const uint8_t grey[] = {0xF3};
+  const int32_t left[2] = {65536 / 4, 0}, right[2] = {3 * 65536 / 4, 0};
+  EXPECT_EQ(ml::sample_texture(t, grey, left), 0x333333u);
+  EXPECT_EQ(ml::sample_texture(t, grey, right), 0xFFFFFFu);
+  t.format = uint8_t(ml::TexelFormat::Palette8);
+  t.palette_size = 1;
+  t.bytes = 4;
+  const uint8_t pal[] = {0x00, 0xF8, 0, 200};  // one colour (red), indices 0 and 200 (past the palette)
+  EXPECT_EQ(ml::sample_texture(t, pal, left), 0xFF0000u);
+  EXPECT_EQ(ml::sample_texture(t, pal, right), 0xFF0000u);
+  EXPECT_EQ(ml::modulate_texel(0xFFFFFF, 0x123456), 0x123456u);
+  EXPECT_EQ(ml::modulate_texel(0x804020, 0xFFFFFF), 0x804020u);
+  EXPECT_EQ(ml::modulate_texel(0x808080, 0x808080), 0x404040u);
+}
+
+// ---- both renderers choose the same texel ----------------------------------------------------------
+
+TEST(TextureRender, TilerAndScanlineImagesAreIdentical) {
+  for (const std::string& path : textest::textured_scenes()) {
+    const mlhost::LoadedScene& s = load(path);
+    ASSERT_NE(s.scene.info, nullptr) << s.name;
+    ASSERT_NE(s.scene.texture_texels, nullptr) << path;
+    for (double turn : {0.0, 25.0, -40.0}) {
+      const ml::Camera cam = textest::camera_for(s, 160, 120, turn);
+      for (ml::ShadingMode mode : {ml::ShadingMode::Unlit, ml::ShadingMode::Flat, ml::ShadingMode::Gouraud}) {
+        const Frame t = textest::render(s.scene, cam, textest::options(ml::RendererKind::Tiler, mode));
+        const Frame l = textest::render(s.scene, cam, textest::options(ml::RendererKind::Scanline, mode));
+        ASSERT_TRUE(t.status.ok() && l.status.ok()) << path << ": " << t.status.message << " / " << l.status.message;
+        ASSERT_TRUE(t.contract && l.contract) << t.contract_error << l.contract_error;
+        EXPECT_GT(t.stats.texture_loads, 0u) << path;
+        size_t differ = 0;
+        for (size_t i = 0; i < t.pixels.size(); ++i) differ += t.pixels[i] != l.pixels[i];
+        EXPECT_EQ(differ, 0u) << path << " turn " << turn << " shading " << int(mode);
+      }
+    }
+  }
+}
+
+TEST(TextureRender, UnlitIsTexelTimesBaseColourAndLightingModulates) {
+  const mlhost::LoadedScene& s = load("builtin:banded");
+  const ml::Camera cam = textest::camera_for(s, 160, 120);
+  const Frame unlit = textest::render(s.scene, cam, textest::options(ml::RendererKind::Tiler));
+  const Frame flat = textest::render(s.scene, cam, textest::options(ml::RendererKind::Tiler, ml::ShadingMode::Flat));
+  ASSERT_TRUE(unlit.status.ok() && flat.status.ok());
+  // The bands face the eye: flat shading scales every texel by one light intensity (< 1 here).
+  std::set<ml::Pixel> colours;
+  size_t darker = 0, textured = 0;
+  for (size_t i = 0; i < unlit.pixels.size(); ++i) {
+    if (unlit.pixels[i] == 0x202830) continue;
+    ++textured;
+    colours.insert(unlit.pixels[i]);
+    darker += ml::red_of(flat.pixels[i]) <= ml::red_of(unlit.pixels[i]) &&
+              ml::green_of(flat.pixels[i]) <= ml::green_of(unlit.pixels[i]);
+  }
+  EXPECT_GT(colours.size(), 40u);  // many texels, not four base colours
+  EXPECT_EQ(darker, textured);
+}
+
+TEST(TextureRender, SupersampledScanlineFiltersTexels) {
+  const mlhost::LoadedScene& s = load("builtin:banded");
+  const ml::Camera cam = textest::camera_for(s, 160, 120);
+  const Frame one = textest::render(s.scene, cam, textest::options(ml::RendererKind::Scanline, ml::ShadingMode::Unlit, 1));
+  const Frame three = textest::render(s.scene, cam, textest::options(ml::RendererKind::Scanline, ml::ShadingMode::Unlit, 3));
+  ASSERT_TRUE(one.status.ok() && three.status.ok());
+  // Filtering makes in-between colours at texel edges: more distinct colours than point sampling.
+  const std::set<ml::Pixel> a(one.pixels.begin(), one.pixels.end()), b(three.pixels.begin(), three.pixels.end());
+  EXPECT_GT(b.size(), a.size() * 2);
+  EXPECT_GE(three.stats.shading_calls, three.stats.geometry_samples * 9 / 10);  // textured: every sample shaded
+}
+
+TEST(TextureRender, OversampledTilerTexturesEveryPixel) {
+  const mlhost::LoadedScene& s = load("builtin:banded");
+  const ml::Camera cam = textest::camera_for(s, 160, 120);
+  const Frame one = textest::render(s.scene, cam, textest::options(ml::RendererKind::Tiler));
+  const Frame four = textest::render(s.scene, cam, textest::options(ml::RendererKind::Tiler, ml::ShadingMode::Unlit, 4));
+  ASSERT_TRUE(four.status.ok() && four.contract) << four.status.message << four.contract_error;
+  EXPECT_EQ(four.stats.texture_loads, 4u);
+  // A pixel inside a piece takes its texel at the pixel centre, as without oversampling; only pixels
+  // on piece edges blend.
+  size_t same = 0;
+  for (size_t i = 0; i < one.pixels.size(); ++i) same += one.pixels[i] == four.pixels[i];
+  EXPECT_GT(same, one.pixels.size() * 9 / 10);
+  EXPECT_LT(same, one.pixels.size());
+}
+
+// ---- the pager ----------------------------------------------------------------------------------------
+
+uint32_t total_texture_bytes(const ml::Scene& s) {
+  uint32_t total = 0;
+  for (uint32_t i = 0; i < s.texture_texels_count; ++i) total += s.texture_texels[i].bytes;
+  return total;
+}
+
+TEST(TexturePager, BandedSceneKeepsFewTexturesResident) {
+  const mlhost::LoadedScene& s = load("builtin:banded");
+  const ml::Camera cam = textest::camera_for(s, 320, 240);
+  const uint32_t total = total_texture_bytes(s.scene);
+  ASSERT_EQ(s.scene.texture_texels_count, 4u);
+  for (ml::RendererKind r : {ml::RendererKind::Scanline, ml::RendererKind::Tiler}) {
+    const Frame f = textest::render(s.scene, cam, textest::options(r));
+    ASSERT_TRUE(f.status.ok());
+    EXPECT_EQ(f.stats.texture_loads, 4u);
+    EXPECT_EQ(f.stats.texture_reloads, 0u);
+    EXPECT_EQ(f.stats.texture_evictions, 0u);
+    EXPECT_LE(f.stats.textures_resident_peak, 3u);  // Woo & Chall's Fig. 10: never all four
+    EXPECT_LE(uint64_t(f.stats.texture_bytes_peak) * 2, uint64_t(total)) << "peak " << f.stats.texture_bytes_peak;
+  }
+}
+
+TEST(TexturePager, PoolSweepGivesTheSameImageWithMoreReloads) {
+  const mlhost::LoadedScene& s = load("builtin:banded");
+  const ml::Camera cam = textest::camera_for(s, 200, 150);
+  const ml::TexturePoolNeeds needs = ml::texture_pool_needs(s.scene);
+  ASSERT_GT(needs.minimum, 0u);
+  ASSERT_LT(needs.minimum, needs.desired);
+  for (ml::RendererKind r : {ml::RendererKind::Scanline, ml::RendererKind::Tiler}) {
+    const Frame all = textest::render(s.scene, cam, textest::options(r));
+    ASSERT_TRUE(all.status.ok());
+    uint32_t previous_reloads = 0xFFFFFFFFu;
+    bool any_reload = false;
+    for (uint32_t pool = needs.minimum; pool <= needs.desired; pool += (needs.desired - needs.minimum) / 6) {
+      ml::RenderOptions o = textest::options(r);
+      o.texture_pool_bytes = pool;
+      const Frame f = textest::render(s.scene, cam, o);
+      ASSERT_TRUE(f.status.ok()) << pool;
+      EXPECT_EQ(f.stats.texture_fallbacks, 0u);
+      EXPECT_EQ(f.pixels, all.pixels) << "pool " << pool;
+      EXPECT_LE(f.stats.texture_bytes_peak, pool);
+      EXPECT_LE(f.stats.texture_reloads, previous_reloads) << "pool " << pool;
+      previous_reloads = f.stats.texture_reloads;
+      any_reload = any_reload || f.stats.texture_reloads > 0;
+    }
+    EXPECT_TRUE(any_reload);
+    // Below the largest texture: that texture falls back, the frame still completes.
+    ml::RenderOptions o = textest::options(r);
+    o.texture_pool_bytes = needs.minimum - 4;
+    const Frame small = textest::render(s.scene, cam, o);
+    ASSERT_TRUE(small.status.ok());
+    EXPECT_GE(small.stats.texture_fallbacks, 1u);
+    o.texture_pool_bytes = 0;
+    const Frame none = textest::render(s.scene, cam, o);
+    ASSERT_TRUE(none.status.ok());
+    EXPECT_EQ(none.stats.texture_fallbacks, 4u);
+    EXPECT_EQ(none.stats.texture_bytes_loaded, 0u);
+  }
+}
+
+TEST(TexturePager, FailingSourceCompletesEveryFrame) {
+  const mlhost::LoadedScene& s = load("builtin:banded");
+  const ml::Camera cam = textest::camera_for(s, 160, 120);
+  for (ml::RendererKind r : {ml::RendererKind::Scanline, ml::RendererKind::Tiler}) {
+    const Frame good = textest::render(s.scene, cam, textest::options(r));
+    for (uint32_t pool : {ml::kTexturePoolAll, ml::texture_pool_needs(s.scene).minimum}) {
+      for (int n = 1; n <= 12; ++n) {
+        textest::FailingSource source(s.scene, n);
+        ml::RenderOptions o = textest::options(r);
+        o.texture_source = &source;
+        o.texture_pool_bytes = pool;
+        const Frame f = textest::render(s.scene, cam, o);
+        ASSERT_TRUE(f.status.ok()) << "read " << n;
+        ASSERT_TRUE(f.contract);
+        if (n <= source.reads) {
+          EXPECT_EQ(f.stats.texture_fallbacks, 1u) << "read " << n;
+          EXPECT_NE(f.pixels, good.pixels);  // one texture's triangles drew their material colour
+        } else {
+          EXPECT_EQ(f.stats.texture_fallbacks, 0u);
+          EXPECT_EQ(f.pixels, good.pixels);
+        }
+      }
+    }
+  }
+}
+
+// Texture bytes read against the bytes of the textures that some visible pixel shows.
+TEST(TexturePager, ReadsOnlyVisibleTexturesWhenThePoolHoldsThem) {
+  for (const std::string& path : textest::textured_scenes()) {
+    const mlhost::LoadedScene& s = load(path);
+    for (double turn : {0.0, 60.0}) {
+      const ml::Camera cam = textest::camera_for(s, 160, 120, turn);
+      ml::RenderOptions ids = textest::options(ml::RendererKind::Tiler, ml::ShadingMode::Ids);
+      const Frame id = textest::render(s.scene, cam, ids);
+      ASSERT_TRUE(id.status.ok());
+      std::set<uint32_t> visible;
+      for (ml::Pixel p : id.pixels)
+        if (p) {
+          const ml::Material& m = s.scene.materials[s.scene.batches[s.scene.triangles[p - 1].batch].material];
+          if (m.texture != ml::kNone && s.scene.texture_texels[m.texture].format) visible.insert(m.texture);
+        }
+      uint64_t visible_bytes = 0;
+      for (uint32_t t : visible) visible_bytes += s.scene.texture_texels[t].bytes;
+      for (ml::RendererKind r : {ml::RendererKind::Scanline, ml::RendererKind::Tiler}) {
+        const Frame f = textest::render(s.scene, cam, textest::options(r));
+        ASSERT_TRUE(f.status.ok());
+        EXPECT_LE(uint64_t(f.stats.texture_bytes_loaded) * 10, visible_bytes * 11) << path;
+        EXPECT_EQ(f.stats.texture_loads, visible.size()) << path;
+      }
+    }
+  }
+}
+
+TEST(TexturePager, ArenaBytesIncludeThePool) {
+  const mlhost::LoadedScene& s = load("builtin:banded");
+  const ml::Camera cam = textest::camera_for(s, 96, 64);
+  for (ml::RendererKind r : {ml::RendererKind::Scanline, ml::RendererKind::Tiler}) {
+    for (uint32_t pool : {ml::kTexturePoolAll, 9000u, 0u}) {
+      ml::RenderOptions o = textest::options(r);
+      o.texture_pool_bytes = pool;
+      const size_t need = ml::render_arena_bytes(s.scene, cam, o);
+      EXPECT_TRUE(textest::render(s.scene, cam, o, need).status.ok());
+      const Frame less = textest::render(s.scene, cam, o, need - 1);
+      EXPECT_EQ(less.status.code, ml::StatusCode::ArenaTooSmall);
+    }
+    ml::RenderOptions small = textest::options(r), all = small;
+    small.texture_pool_bytes = 9000;
+    EXPECT_EQ(ml::render_arena_bytes(s.scene, cam, all) - ml::render_arena_bytes(s.scene, cam, small),
+              size_t(ml::texture_pool_needs(s.scene).desired - 9000));
+  }
+}
+
+TEST(TexturePager, FileSourceReadsTheSameTexels) {
+  const mlhost::LoadedScene& s = load("builtin:banded");
+  const std::string path = scenetest::temp_dir() + "/banded.mls";
+  std::string error;
+  ASSERT_TRUE(ml::save_blob_file(path, s.blob, &error)) << error;
+  mlhost::FileTextureSource file(path, s.scene);
+  ASSERT_TRUE(file.ok());
+  const ml::Camera cam = textest::camera_for(s, 160, 120);
+  ml::RenderOptions o = textest::options(ml::RendererKind::Scanline);
+  const Frame blob = textest::render(s.scene, cam, o);
+  o.texture_source = &file;
+  const Frame from_file = textest::render(s.scene, cam, o);
+  ASSERT_TRUE(from_file.status.ok());
+  EXPECT_EQ(from_file.stats.texture_fallbacks, 0u);
+  EXPECT_EQ(from_file.pixels, blob.pixels);
+}
+
+}  // namespace
