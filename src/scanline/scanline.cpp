@@ -575,16 +575,19 @@ struct Renderer {
       sample_weights(a, s.lat, x, y, w);
       c = blend_colors(a.color, w);
     }
-    return tex_of && tex_of[&a - act] != kNone ? texture(a, x, y, c) : c;
+    if (tex_of) {
+      const uint32_t slot = uint32_t(&a - act);
+      if (tex_of[slot] != kNone) return texture(slot, a.id, x, y, c);
+    }
+    return c;
   }
 
   // §5: the texel at sample (x, y) modulates the shaded colour (the colour alone when the pager
   // falls back). Texture coordinates come from the whole triangle, as in the tiler.
-  Pixel texture(const ActiveTri& a, int32_t x, int32_t y, Pixel c) {
-    const uint32_t slot = uint32_t(&a - act);
+  Pixel texture(uint32_t slot, uint32_t id, int32_t x, int32_t y, Pixel c) {
     uint32_t& t = tex_of[slot];
     if (!(t & kTexReady)) {
-      triangle_texture_planes(*scene, s.view, a.id, s.lat.den, s.lat.ox, s.lat.oy, &tex_planes[slot]);
+      triangle_texture_planes(*scene, s.view, id, s.lat.den, s.lat.ox, s.lat.oy, &tex_planes[slot]);
       t |= kTexReady;
     }
     const uint32_t texture = t & ~kTexReady;
