@@ -301,8 +301,9 @@ uint32_t for_each_piece(const Scene& scene, const Setup& s, F f) {
   uint32_t batch = 0xFFFFFFFFu;
   const Material* material = nullptr;
   for (uint32_t id = 0; id < scene.triangle_count; ++id) {
-    if (scene.triangles[id].batch != batch) {  // a batch's triangles are consecutive: one look-up each
-      batch = scene.triangles[id].batch;
+    const uint32_t tri_batch = triangle_at(scene, id).batch;
+    if (tri_batch != batch) {  // a batch's triangles are consecutive: one look-up each
+      batch = tri_batch;
       material = &scene.materials[scene.batches[batch].material];
     }
     const Material& m = *material;
