@@ -446,7 +446,13 @@ int cmd_info(int argc, char** argv) {
     if (k == ml::RendererKind::Tiler && !tiler_aa) continue;
     o.aa = aa;
     const size_t bytes = ml::render_arena_bytes(scene, base, o);
-    printf("arena bytes (%s, %dx%d, aa %d): %zu\n", renderer_name(k), width, height, o.aa, bytes);
+    printf("arena bytes (%s, %dx%d, aa %d): %zu", renderer_name(k), width, height, o.aa, bytes);
+    const ml::TexturePoolNeeds pool = ml::texture_pool_needs(scene);
+    if (pool.minimum < pool.desired) {  // textures: the smallest arena that draws every texture too
+      o.texture_pool_bytes = pool.minimum;
+      printf(" (%zu with the minimum texture pool)", ml::render_arena_bytes(scene, base, o));
+    }
+    printf("\n");
   }
   return 0;
 }

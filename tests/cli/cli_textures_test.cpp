@@ -1,0 +1,60 @@
+// The CLI's texture options: info lists textures and pool sizes, compile chooses formats, render
+// reads texels from the .mls file or through a small pool and gives the same picture.
+#include <gtest/gtest.h>
+
+#include "tests/cli/cli_runner.h"
+
+namespace {
+
+using clitest::run_cli;
+using clitest::RunResult;
+
+class CliTextures : public clitest::TempDirTest {};
+
+const char* kBoxTextured = "/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb";
+
+TEST_F(CliTextures, InfoListsTexturesAndPoolSizes) {
+  const RunResult r = run_cli({"info", "builtin:banded"});
+  ASSERT_EQ(r.exit_code, 0) << r.describe();
+  EXPECT_NE(r.out.find("texture 0: 64x64 rgb565, 8192 bytes, wrap repeat/repeat, nearest"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("texture 1: 64x64 palette8 (8 colours), 4112 bytes, wrap mirrored/mirrored, nearest"),
+            std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("texture 2: 128x64 grey4, 4096 bytes, wrap clamp/clamp, nearest"), std::string::npos);
+  EXPECT_NE(r.out.find("texture pool bytes: desired 24608 (every texture), minimum 8208 (the largest)"),
+            std::string::npos);
+  EXPECT_NE(r.out.find("with the minimum texture pool)"), std::string::npos);
+}
+
+TEST_F(CliTextures, CompileFormatsAndFileSourceGiveTheSamePicture) {
+  if (!clitest::file_exists(kBoxTextured)) GTEST_SKIP() << "assimp-testmodels not installed";
+  const RunResult grey = run_cli({"compile", kBoxTextured, "-o", path("grey.mls"), "--texture-format", "grey4",
+                                  "--texture-max", "64"});
+  ASSERT_EQ(grey.exit_code, 0) << grey.describe();
+  const RunResult info = run_cli({"info", path("grey.mls")});
+  EXPECT_NE(info.out.find("texture 0: 64x64 grey4, 2048 bytes"), std::string::npos) << info.out;
+  const RunResult c = run_cli({"compile", kBoxTextured, "-o", path("box.mls")});
+  ASSERT_EQ(c.exit_code, 0) << c.describe();
+  const RunResult blob = run_cli({"render", path("box.mls"), "--size", "96x72", "-o", path("blob.png"), "--stats"});
+  const RunResult file = run_cli({"render", path("box.mls"), "--size", "96x72", "-o", path("file.png"), "--stats",
+                                  "--texture-source", "file", "--texture-pool", "65648"});
+  ASSERT_EQ(blob.exit_code, 0) << blob.describe();
+  ASSERT_EQ(file.exit_code, 0) << file.describe();
+  EXPECT_EQ(clitest::read_bytes(path("blob.png")), clitest::read_bytes(path("file.png")));
+  EXPECT_EQ(clitest::json_int(file.out, "texture_loads"), 1);
+  EXPECT_EQ(clitest::json_int(file.out, "texture_bytes_loaded"), 65646);
+  EXPECT_EQ(clitest::json_int(file.out, "texture_fallbacks"), 0);
+  // Too small a pool for the one texture: drawn in the material colour, counted, still exit 0.
+  const RunResult tiny = run_cli({"render", path("box.mls"), "--size", "96x72", "--stats", "--texture-pool", "1000"});
+  ASSERT_EQ(tiny.exit_code, 0) << tiny.describe();
+  EXPECT_EQ(clitest::json_int(tiny.out, "texture_fallbacks"), 1);
+}
+
+TEST_F(CliTextures, BadTextureOptionsAreUsageErrors) {
+  clitest::expect_one_line_error(run_cli({"render", "builtin:banded", "--texture-source", "file"}), 2, "needs a .mls");
+  clitest::expect_one_line_error(run_cli({"render", "--texture-source", "flash"}), 2, "--texture-source");
+  clitest::expect_one_line_error(run_cli({"render", "--texture-pool", "-3"}), 2, "--texture-pool");
+  clitest::expect_one_line_error(run_cli({"compile", kBoxTextured, "-o", path("x.mls"), "--texture-format", "jpeg"}),
+                                 2, "--texture-format");
+}
+
+}  // namespace
