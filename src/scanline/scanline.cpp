@@ -44,14 +44,15 @@ static inline int64_t lattice_last(int64_t hi, const Lattice& lat, int32_t o) {
 }
 
 bool lattice_box(const ScreenTriangle& t, const Lattice& lat, LatticeBox* b) {
+  // Screen coordinates are below 2^22 and den at most 7: the lattice indices fit int32 on the way.
   const int32_t ax = t.v[0].x, bx = t.v[1].x, cx = t.v[2].x, ay = t.v[0].y, by = t.v[1].y, cy = t.v[2].y;
   const int32_t x0 = min_of(ax, min_of(bx, cx)), x1 = max_of(ax, max_of(bx, cx));
   const int32_t y0 = min_of(ay, min_of(by, cy)), y1 = max_of(ay, max_of(by, cy));
-  b->y0 = int32_t(max_of<int64_t>(0, lattice_first(y0, lat, lat.oy)));
-  b->y1 = int32_t(min_of<int64_t>(lat.ny - 1, lattice_last(y1, lat, lat.oy)));
+  b->y0 = max_of(int32_t(0), int32_t(lattice_first(y0, lat, lat.oy)));
+  b->y1 = min_of(lat.ny - 1, int32_t(lattice_last(y1, lat, lat.oy)));
   if (b->y0 > b->y1) return false;
-  b->x0 = int32_t(max_of<int64_t>(0, lattice_first(x0, lat, lat.ox)));
-  b->x1 = int32_t(min_of<int64_t>(lat.nx - 1, lattice_last(x1, lat, lat.ox)));
+  b->x0 = max_of(int32_t(0), int32_t(lattice_first(x0, lat, lat.ox)));
+  b->x1 = min_of(lat.nx - 1, int32_t(lattice_last(x1, lat, lat.ox)));
   return b->x0 <= b->x1;
 }
 
@@ -127,6 +128,14 @@ bool step_span(ActiveTri* t, const Lattice& lat, int32_t y, int32_t* min_x, int3
   return true;
 }
 
+// The plane (no fill rule) of the edge opposite vertex j, v_{j+1} -> v_{j+2}: vertex j's barycentric
+// weight times area2.
+static inline EdgeFunction opposite_plane(const ActiveTri& t, int j) {
+  const int p = j == 2 ? 0 : j + 1;
+  const int q = p == 2 ? 0 : p + 1;
+  return edge_plane(t.vx[p], t.vy[p], t.vx[q], t.vy[q]);
+}
+
 static inline int64_t triangle_area2(const ActiveTri& t) {
   return (int64_t(t.vx[1]) - t.vx[0]) * (int64_t(t.vy[2]) - t.vy[0]) -
          (int64_t(t.vy[1]) - t.vy[0]) * (int64_t(t.vx[2]) - t.vx[0]);
@@ -146,14 +155,11 @@ void depth_plane(ActiveTri* t, const uint32_t depth[3], const Lattice& lat) {
   // all over area2 * den, times 2^16 (Q16).
   int64_t d[3], cz[3], ca[3], cb[3];
   for (int j = 0; j < 3; ++j) {
-    const int p = j == 2 ? 0 : j + 1;
-    const int q = p == 2 ? 0 : p + 1;
-    const int64_t a = int64_t(t->vy[p]) - t->vy[q];
-    const int64_t b = int64_t(t->vx[q]) - t->vx[p];
+    const EdgeFunction e = opposite_plane(*t, j);
     d[j] = depth[j];
-    ca[j] = a;
-    cb[j] = b;
-    cz[j] = a * (lat.ox - int64_t(t->vx[p]) * lat.den) + b * (lat.oy - int64_t(t->vy[p]) * lat.den);
+    ca[j] = e.a;
+    cb[j] = e.b;
+    cz[j] = lattice_row(e, lat, 0).r;  // E * den at sample (0, 0)
   }
   const int64_t den = triangle_area2(*t) * lat.den;
   t->z_row = mul_add3_div_round_low(d, cz, 16, den);
@@ -166,14 +172,10 @@ uint32_t weight_reciprocal(const ActiveTri& t, const Lattice& lat) {
 }
 
 void sample_weights(const ActiveTri& t, const Lattice& lat, int32_t x, int32_t y, int32_t w[3]) {
-  const int64_t u = int64_t(x) * kSubpixelOne + lat.ox, v = int64_t(y) * kSubpixelOne + lat.oy;
-  int64_t e[3];  // e[j]: unbiased edge function opposite vertex j (edge j + 1), scaled by den
+  int64_t e[3];  // e[j]: the plane of the edge opposite vertex j at the sample, scaled by den
   for (int j = 1; j < 3; ++j) {
-    const int p = j == 2 ? 0 : j + 1;
-    const int q = p == 2 ? 0 : p + 1;
-    const int64_t a = int64_t(t.vy[p]) - t.vy[q];
-    const int64_t b = int64_t(t.vx[q]) - t.vx[p];
-    e[j] = a * (u - int64_t(t.vx[p]) * lat.den) + b * (v - int64_t(t.vy[p]) * lat.den);
+    const LatticeEdge r = lattice_row(opposite_plane(t, j), lat, y);
+    e[j] = r.k * x + r.r;
     if (e[j] < 0) e[j] = 0;  // not at a covered sample; kept in range
   }
   // At a covered sample the three are >= 0 and sum to area2 * den (the edge functions of a triangle
@@ -272,6 +274,18 @@ bool may_cover(const ScreenTriangle& t, const Lattice& lat, const LatticeBox& b)
   return false;
 }
 
+// The piece project_triangle makes of an unclipped triangle at these positions, as far as pass 1 looks
+// at it (x and y, in area2 > 0 order): 0 when it is degenerate.
+int positions_piece(const int32_t x[3], const int32_t y[3], ScreenTriangle* t) {
+  const int64_t area2 = (int64_t(x[1]) - x[0]) * (int64_t(y[2]) - y[0]) - (int64_t(y[1]) - y[0]) * (int64_t(x[2]) - x[0]);
+  if (area2 == 0) return 0;
+  const int b = area2 > 0 ? 1 : 2, c = area2 > 0 ? 2 : 1;  // project_triangle swaps 1 and 2 when < 0
+  t->v[0].x = x[0]; t->v[0].y = y[0];
+  t->v[1].x = x[b]; t->v[1].y = y[b];
+  t->v[2].x = x[c]; t->v[2].y = y[c];
+  return 1;
+}
+
 // ySortList reference: triangle id, whether it faces away (so activation need not test it again) and
 // the piece index from project_triangle.
 inline uint32_t make_ref(uint32_t id, int facing, int piece) {
@@ -284,16 +298,30 @@ template <typename F>
 uint32_t for_each_piece(const Scene& scene, const Setup& s, F f) {
   uint32_t culled = 0;
   const Lattice& lat = s.lat;
+  uint32_t batch = 0xFFFFFFFFu;
+  const Material* material = nullptr;
   for (uint32_t id = 0; id < scene.triangle_count; ++id) {
-    const Material& m = material_of(scene, id);
+    if (scene.triangles[id].batch != batch) {  // a batch's triangles are consecutive: one look-up each
+      batch = scene.triangles[id].batch;
+      material = &scene.materials[scene.batches[batch].material];
+    }
+    const Material& m = *material;
     if (cut_out(m)) { ++culled; continue; }
     Vec3i world[3];
+    int32_t x[3], y[3];
     triangle_world(scene, id, world);
     // Back faces are culled in world space before projecting (exact, as the tiler does).
     const int facing = triangle_facing(s.view, world);
     if (facing == 0 || (facing < 0 && !m.double_sided)) { ++culled; continue; }
     ScreenTriangle pieces[kMaxClipTriangles];
-    const int count = project_triangle(s.view, world, facing, pieces);
+    int count;
+    if (project_unclipped_positions(s.view, world, x, y)) {
+      // The common case needs only the positions here (activation projects again): ordered as
+      // project_triangle orders them, so the piece is the same.
+      count = positions_piece(x, y, &pieces[0]);
+    } else {
+      count = project_triangle(s.view, world, facing, pieces);
+    }
     bool any = false;
     for (int k = 0; k < count; ++k) {
       LatticeBox b;
@@ -308,9 +336,10 @@ uint32_t for_each_piece(const Scene& scene, const Setup& s, F f) {
 
 inline size_t round8(size_t v) { return (v + 7) & ~size_t(7); }
 
-// m_max takes a temporary: a histogram of 4 B a sample row (no sort) or, when that would be larger, a
-// sorted copy of max_y (2 B a piece).
-inline bool m_by_rows(uint32_t n, const Lattice& lat) { return (size_t(lat.ny) + 1) * 4 <= size_t(n) * 2; }
+// Sorting the ySortList and finding m_max take a temporary: two arrays of 4 B a sample row (a histogram
+// for m_max, then bucket offsets for sorting by minY without comparisons) or, when those would be
+// larger, a sorted copy of max_y (2 B a piece) after a quicksort.
+inline bool by_rows(uint32_t n, const Lattice& lat) { return (size_t(lat.ny) + 1) * 8 <= size_t(n) * 2; }
 
 struct Sizes {
   size_t ysort, drawn, temp, yactive, ord, xactive, keep, acc, band;
@@ -324,7 +353,7 @@ Sizes sizes_for(const Scene& scene, const Setup& s, uint32_t n, uint32_t m) {
   Sizes z;
   z.ysort = round8(size_t(n) * sizeof(YSortEntry));
   z.drawn = round8(((size_t(scene.triangle_count) + 31) / 32) * 4);
-  z.temp = round8(m_by_rows(n, s.lat) ? (size_t(s.lat.ny) + 1) * 4 : size_t(n) * 2);
+  z.temp = round8(by_rows(n, s.lat) ? (size_t(s.lat.ny) + 1) * 8 : size_t(n) * 2);
   z.yactive = round8(size_t(m) * sizeof(ActiveTri));
   z.ord = round8(size_t(m) * 4);
   z.xactive = round8(size_t(m) * 4);
@@ -378,6 +407,32 @@ uint32_t m_from_rows(const YSortEntry* ys, uint32_t n, int32_t ny, int32_t* rows
     m = max_of(m, run);
   }
   return uint32_t(m);
+}
+
+// Sorts ys by min_y in place (American flag sort: bucket offsets, then each entry swapped straight into
+// its bucket). start[ny + 1] and next[ny] are scratch. Counts element moves in *work.
+void bucket_sort_rows(YSortEntry* ys, uint32_t n, int32_t ny, uint32_t* start, uint32_t* next, uint64_t* work) {
+  for (int32_t y = 0; y <= ny; ++y) start[y] = 0;
+  for (uint32_t i = 0; i < n; ++i) ++start[ys[i].min_y + 1];
+  for (int32_t y = 0; y < ny; ++y) {
+    start[y + 1] += start[y];
+    next[y] = start[y];
+  }
+  uint64_t w = 0;
+  for (int32_t y = 0; y < ny; ++y) {
+    while (next[y] < start[y + 1]) {
+      YSortEntry e = ys[next[y]];
+      while (e.min_y != y) {  // follow the cycle: e goes to its bucket, the entry there comes out
+        const YSortEntry out = ys[next[e.min_y]];
+        ys[next[e.min_y]++] = e;
+        e = out;
+        w += 2;
+      }
+      ys[next[y]++] = e;
+      ++w;
+    }
+  }
+  *work += w;
 }
 
 uint32_t m_from_sorted(const YSortEntry* ys, uint16_t* max_ys, uint32_t n, uint64_t* work) {
@@ -543,6 +598,7 @@ struct Renderer {
     return modulate_texel(sample_texture(scene->texture_texels[texture], bytes, uv), c);
   }
   bool textured(uint32_t slot) const { return tex_of && tex_of[slot] != kNone; }
+  uint32_t slot_of(const ActiveTri& a) const { return uint32_t(&a - act); }
 
   void mark_drawn(ActiveTri& a) {
     if (a.flags & kWon) return;
@@ -653,13 +709,26 @@ struct Renderer {
     if (front.flags & kBlend) return composite(x, y, k);
     mark_drawn(front);
     if (s.lat.l == 1) return shade(front, x, y);
+    return keep_or_shade(front, x, y, surface_key(front));
+  }
+
+  // keepObj (§3.4.1–3.4.2) for opaque surface `front` at sample x (l > 1): the colour kept in the
+  // pixel when the surface is the same, not forced, and the stochastic draw says so; else a shading
+  // call, compared with the pixel and its neighbours.
+  Pixel keep_or_shade(ActiveTri& front, int32_t x, int32_t y, uint32_t key) {
     const int32_t c = pixel_of(x);
-    const uint32_t key = surface_key(front);
-    uint32_t& kr = keep_rgb[c];
+    const uint32_t kr = keep_rgb[c];
+    // Adaptive-stochastic shading (§3.4.2): the generator is drawn only for a kept, unforced surface.
     // Textured surfaces are shaded at every sample: the l x l samples filter the texels (§5).
-    bool need = keep_surface[c] != key || (kr & kForce) || textured(best);
-    if (!need) need = rng.next() < p_threshold;  // adaptive-stochastic shading (§3.4.2)
-    if (!need) return kr & 0xFFFFFF;
+    if (keep_surface[c] == key && !(kr & kForce) && !textured(slot_of(front)) && rng.next() >= p_threshold)
+      return kr & 0xFFFFFF;
+    return shade_kept(front, x, y, c, key);
+  }
+
+  // A shading call for keepObj column c: compared with the pixel's kept colour and its neighbours'; a
+  // difference forces shading of their later samples.
+  [[gnu::always_inline]] Pixel shade_kept(ActiveTri& front, int32_t x, int32_t y, int32_t c, uint32_t key) {
+    uint32_t& kr = keep_rgb[c];
     const Pixel col = shade(front, x, y);
     bool differ = (kr & kValid) && differs(kr, col);
     if (c > 0 && (keep_rgb[c - 1] & kValid) && differs(keep_rgb[c - 1], col)) differ = true;
@@ -673,6 +742,55 @@ struct Renderer {
     kr = col | kValid | force;
     keep_surface[c] = key;
     return col;
+  }
+
+  // Samples [x0, x1] of the row where opaque piece `a` is the only active span (the common case):
+  // no nearest-surface search, the same per-sample results as the general sweep.
+  void single_run(ActiveTri& a, int32_t x0, int32_t x1, int32_t y) {
+    stats->geometry_samples += uint64_t(x1 - x0 + 1);
+    mark_drawn(a);
+    a.z_run += a.gx * uint64_t(int64_t(x1 - x0));  // as if stepped sample by sample
+    if (opt->shading == ShadingMode::Ids) {
+      for (int32_t x = x0; x <= x1; ++x) keep_surface[x] = a.id + 1;
+      return;
+    }
+    if (!s.accumulate) {
+      for (int32_t x = x0; x <= x1; ++x) keep_surface[x] = shade(a, x, y);
+      return;
+    }
+    single_run_supersampled(a, x0, x1, y);
+  }
+
+  // single_run at l > 1: keep_or_shade and emit_sample for each sample, with the pixel cursor, the
+  // running sum and the generator in locals (stores into the keepObj arrays would otherwise make the
+  // compiler reload them at every sample).
+  void single_run_supersampled(ActiveTri& a, int32_t x0, int32_t x1, int32_t y) {
+    const uint32_t key = surface_key(a);
+    const int32_t last_px = s.width - 1, q = s.lat.q;
+    const uint32_t p = p_threshold;
+    const uint32_t* const surface = keep_surface;
+    const uint32_t* const kept = keep_rgb;
+    const bool tex = textured(slot_of(a));  // shaded at every sample, as in keep_or_shade
+    int32_t px = cur_px, right = cur_right;
+    uint64_t sum = cur_sum;
+    for (int32_t x = x0; x <= x1; ++x) {
+      const int32_t c = x == right && px < last_px ? px + 1 : px;
+      const uint32_t kr = kept[c];
+      Pixel col;
+      if (surface[c] == key && !(kr & kForce) && !tex && rng.next() >= p) col = kr & 0xFFFFFF;
+      else col = shade_kept(a, x, y, c, key);
+      if (col != last_colour) { last_colour = col; last_packed = pack(col); }
+      sum += last_packed;
+      if (x == right) {  // x is px's right border, shared with the next pixel
+        commit(px, sum);
+        sum = last_packed;
+        ++px;
+        right += q;
+      }
+    }
+    cur_px = px;
+    cur_right = right;
+    cur_sum = sum;
   }
 
   // Front-to-back compositing (§3, pseudo-code "Do until visible surface is opaque or background").
@@ -782,6 +900,12 @@ struct Renderer {
         ++j;
       }
       if (best < 0) continue;  // every span ended: the k == 0 branch handles x
+      if (k == 1 && mode != ShadingMode::Lines && !(act[best].flags & kBlend)) {
+        const int32_t end = min_of(int32_t(act[best].max_x), min_of(next, lat.nx) - 1);
+        single_run(act[best], x, end, y);
+        x = end + 1;
+        continue;
+      }
       ++stats->geometry_samples;
       if (mode == ShadingMode::Ids) {
         mark_drawn(act[best]);
@@ -963,15 +1087,18 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
   YSortEntry* ys = static_cast<YSortEntry*>(arena.allocate(z.ysort, 8));
   r.drawn = static_cast<uint32_t*>(arena.allocate(z.drawn, 8));
   for (size_t i = 0; i < z.drawn / 4; ++i) r.drawn[i] = 0;
-  // §3.3: sort ySortList on min_y (top row first: our y grows downwards).
-  quick_sort(ys, n, [](const YSortEntry& e) { return e.min_y; }, &stats->sort_instructions);
+  // §3.3: sort ySortList on min_y (top row first: our y grows downwards), and find m_max.
   const size_t mark = arena.used();
   void* temp = arena.allocate(z.temp, 8);
   note();
   uint32_t m;
-  if (m_by_rows(n, s.lat)) {
-    m = m_from_rows(ys, n, s.lat.ny, static_cast<int32_t*>(temp));
+  if (by_rows(n, s.lat)) {
+    int32_t* rows = static_cast<int32_t*>(temp);
+    m = m_from_rows(ys, n, s.lat.ny, rows);
+    bucket_sort_rows(ys, n, s.lat.ny, reinterpret_cast<uint32_t*>(rows), reinterpret_cast<uint32_t*>(rows) + s.lat.ny + 1,
+                     &stats->sort_instructions);
   } else {
+    quick_sort(ys, n, [](const YSortEntry& e) { return e.min_y; }, &stats->sort_instructions);
     uint16_t* max_ys = static_cast<uint16_t*>(temp);
     for (uint32_t i = 0; i < n; ++i) max_ys[i] = ys[i].max_y;
     m = m_from_sorted(ys, max_ys, n, &stats->sort_instructions);

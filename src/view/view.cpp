@@ -226,37 +226,58 @@ int project_triangle(const View& view, const Vec3i world[3], ScreenTriangle out[
   return project_triangle(view, world, triangle_facing(view, world), out);
 }
 
-int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenTriangle out[kMaxClipTriangles]) {
-  if (facing == 0) return 0;  // seen edge-on: covers nothing
-  ClipVertex buffers[2][kMaxPolygon];
-  ClipVertex* poly = buffers[0];
+namespace {
+
+// View-space points of a world triangle; true when all three lie in front of the near plane and project
+// inside the guard band (ox, oy then hold their screen offsets): nothing to clip, the common case. (A
+// vertex this keeps but the clip planes would cut lies on the guard band, thousands of pixels off
+// screen, so the two tests cannot disagree on any visible sample.)
+bool unclipped(const View& view, const Vec3i world[3], Vec3i p[3], int64_t ox[3], int64_t oy[3]) {
   bool in_front = true;
   for (int i = 0; i < 3; ++i) {
-    poly[i].p = Vec3i{view_coordinate(view, view.right, world[i]), view_coordinate(view, view.down, world[i]),
-                      view_coordinate(view, view.forward, world[i])};
+    p[i] = Vec3i{view_coordinate(view, view.right, world[i]), view_coordinate(view, view.down, world[i]),
+                 view_coordinate(view, view.forward, world[i])};
+    in_front = in_front && p[i].z >= view.near;
+  }
+  if (!in_front) return false;
+  const int64_t guard = int64_t(kGuardBandPixels) << kSubpixelBits;
+  for (int i = 0; i < 3; ++i) {
+    ox[i] = project_offset(view, p[i].x, p[i].z);
+    oy[i] = project_offset(view, p[i].y, p[i].z);
+    if (abs64(ox[i]) > guard || abs64(oy[i]) > guard) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool project_unclipped_positions(const View& view, const Vec3i world[3], int32_t x[3], int32_t y[3]) {
+  Vec3i p[3];
+  int64_t ox[3], oy[3];
+  if (!unclipped(view, world, p, ox, oy)) return false;
+  for (int i = 0; i < 3; ++i) {
+    x[i] = int32_t(view.center_x + ox[i]);
+    y[i] = int32_t(view.center_y + oy[i]);
+  }
+  return true;
+}
+
+int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenTriangle out[kMaxClipTriangles]) {
+  if (facing == 0) return 0;  // seen edge-on: covers nothing
+  Vec3i p[3];
+  int64_t ox[3], oy[3];
+  const bool fast = unclipped(view, world, p, ox, oy);
+  ClipVertex buffers[2][kMaxPolygon];
+  ClipVertex* poly = buffers[0];
+  for (int i = 0; i < 3; ++i) {
+    poly[i].p = p[i];
     poly[i].weight[0] = poly[i].weight[1] = poly[i].weight[2] = 0;
     poly[i].weight[i] = kWeightOne;
-    in_front = in_front && poly[i].p.z >= view.near;
   }
-
-  // Fast path, the common case: all three vertices in front of the near plane and inside the guard
-  // band, so nothing is clipped. (A vertex the projected test keeps but the plane test below would
-  // clip lies on the guard band, thousands of pixels off screen, so the two tests cannot disagree on
-  // any visible sample.)
-  if (in_front) {
-    const int64_t guard = int64_t(kGuardBandPixels) << kSubpixelBits;
-    int64_t ox[3], oy[3];
-    bool inside = true;
-    for (int i = 0; i < 3 && inside; ++i) {
-      ox[i] = project_offset(view, poly[i].p.x, poly[i].p.z);
-      oy[i] = project_offset(view, poly[i].p.y, poly[i].p.z);
-      inside = abs64(ox[i]) <= guard && abs64(oy[i]) <= guard;
-    }
-    if (inside) {
-      for (int i = 0; i < 3; ++i) out[0].v[i] = make_screen_vertex(view, poly[i], ox[i], oy[i]);
-      out[0].front_facing = facing > 0;
-      return orient(&out[0]) ? 1 : 0;
-    }
+  if (fast) {
+    for (int i = 0; i < 3; ++i) out[0].v[i] = make_screen_vertex(view, poly[i], ox[i], oy[i]);
+    out[0].front_facing = facing > 0;
+    return orient(&out[0]) ? 1 : 0;
   }
 
   int count = 3;

@@ -83,6 +83,12 @@ int project_triangle(const View& view, const Vec3i world[3], ScreenTriangle out[
 // is a piece of (BSP pieces take their original triangle's facing).
 int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenTriangle out[kMaxClipTriangles]);
 
+// The screen positions (subpixels) project_triangle gives a triangle it does not clip, before it orders
+// them (area2 > 0) and without depths or weights: a cheap first look for callers that may drop the
+// triangle. False when project_triangle would clip it (a vertex behind the near plane or outside the
+// guard band): then call project_triangle.
+bool project_unclipped_positions(const View& view, const Vec3i world[3], int32_t x[3], int32_t y[3]);
+
 // One view-space coordinate (1/16 world unit) of a world point: the world→view row `axis` (Q1.30)
 // dotted with the offset from the eye. |offset| < 2^25, so the dot product stays below 2^56. Rounds
 // half up (an arithmetic shift of the biased value): cheaper than symmetric rounding, as exact.
@@ -108,14 +114,21 @@ struct EdgeFunction {
   int64_t at(int64_t x, int64_t y) const { return a * x + b * y + c; }
 };
 
-// The edge P -> Q (subpixels) as an edge function: a = P.y - Q.y, b = Q.x - P.x, c = -(a P.x + b P.y),
-// one smaller when the edge is not top-left (fill rule above). The one derivation every renderer uses.
-// |a|, |b| < 2^23 and |c| < 2^46 inside the guard band.
-inline EdgeFunction edge_function(int32_t px, int32_t py, int32_t qx, int32_t qy) {
+// The edge P -> Q (subpixels) as a plane without the fill rule: a = P.y - Q.y, b = Q.x - P.x,
+// c = -(a P.x + b P.y), zero on the edge; over a triangle's doubled area it is the barycentric weight of
+// the opposite vertex. |a|, |b| < 2^23 and |c| < 2^46 inside the guard band.
+inline EdgeFunction edge_plane(int32_t px, int32_t py, int32_t qx, int32_t qy) {
   EdgeFunction e;
   e.a = int64_t(py) - qy;
   e.b = int64_t(qx) - px;
   e.c = -(e.a * px + e.b * py);
+  return e;
+}
+
+// The edge function of coverage: edge_plane with c one smaller when the edge is not top-left (fill rule
+// above). The one derivation every renderer uses.
+inline EdgeFunction edge_function(int32_t px, int32_t py, int32_t qx, int32_t qy) {
+  EdgeFunction e = edge_plane(px, py, qx, qy);
   if (!is_top_left(e.a, e.b)) e.c -= 1;  // E == 0 on this edge is outside
   return e;
 }
