@@ -98,6 +98,45 @@ TEST(TilerMask, CompositingFollowsTable41) {
 // S1, S3, S4, exactness: random triangles tiled front to back give each sample to the first
 // triangle (in order) whose src/view coverage contains it, written exactly once; S2/S5 after the
 // background: every sample written once and the root covered.
+// Ownership against brute force on screens small enough that every polygon takes the small-box path,
+// with triangles reaching far into the guard band (edge steps near the 32-bit row limit, where the
+// tiler must fall back to the descent), at one and at 8 x 8 samples a pixel.
+TEST(TilerTile, SmallBoxesWithLongEdgesEqualBruteForce) {
+  std::mt19937 rng(21);
+  for (int factor : {1, 8}) {
+    const int pw = 3, ph = 4, w = pw * factor, h = ph * factor, pitch = 256 / factor;
+    for (int rep = 0; rep < 20; ++rep) {
+      OwnedPyramid op(w, h);
+      ml::HierTiler tiler;
+      tiler.init(&op.pyramid, pitch, nullptr);
+      RecordingWriter rec(w, h);
+      std::vector<int> expect(size_t(w) * size_t(h), -1);
+      for (int i = 0; i < 40; ++i) {
+        ml::ScreenTriangle t;
+        const int span = (i % 3 == 0) ? 8000 : (i % 3 == 1) ? 600 : 4;
+        if (!tiler_test::random_triangle(rng, pw, ph, span, &t)) continue;
+        ml::TriangleSetup s;
+        ml::setup_triangle(t, pw, ph, &s);
+        ml::ConvexPoly poly;
+        ml::poly_in_samples(t, s, factor, pw, ph, &poly);
+        rec.current = i;
+        ASSERT_NE(tiler.tile(poly, rec), ml::TileResult::Failed);
+        for (int y = 0; y < h; ++y)
+          for (int x = 0; x < w; ++x)
+            if (expect[size_t(y) * size_t(w) + size_t(x)] < 0 &&
+                ml::covers_point(s, int64_t(x) * pitch + pitch / 2, int64_t(y) * pitch + pitch / 2))
+              expect[size_t(y) * size_t(w) + size_t(x)] = i;
+      }
+      ASSERT_FALSE(rec.out_of_bounds);
+      for (size_t p = 0; p < expect.size(); ++p) {
+        ASSERT_LE(rec.count[p], 1) << "sample written twice at " << p % size_t(w) << "," << p / size_t(w);
+        ASSERT_EQ(rec.count[p] ? rec.owner[p] : -1, expect[p])
+            << "at " << p % size_t(w) << "," << p / size_t(w) << ", " << factor << "x" << factor << " samples";
+      }
+    }
+  }
+}
+
 TEST(TilerTile, OwnershipEqualsBruteForceFrontToBack) {
   std::mt19937 rng(1);
   for (auto [w, h] : {std::pair<int, int>{320, 240}, {64, 64}, {77, 131}, {600, 9}, {1, 1}, {513, 300}}) {
