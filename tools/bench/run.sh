@@ -76,7 +76,7 @@ measure() {
   tiled=$(field triangles_tiled "$line"); split=$(field split_ratio "$line")
   if [ "$renderer" = tiler ] && [ -n "$tiled" ] && [ "$tiled" != 0 ]; then
     per_tiled=$(awk -v i="$ir" -v t="$tiled" 'BEGIN { printf "%.0f", i / t }')
-    per_tiled_ir["$name.$size"]=$per_tiled
+    [ "$aa" = 1 ] && per_tiled_ir["$name.$size"]=$per_tiled  # the key ratios are point-sampled frames
   fi
   split_of["$name"]=$split
   all_ir["$name.$renderer.$size.$aa"]=$ir
