@@ -15,8 +15,11 @@ qemu=(-semihosting-config enable=on,target=native -icount shift=0,sleep=off -mon
 # run NAME MACHINE ELF: the image's report in $work/NAME.txt (boards that wait after the frame are
 # stopped once they print "frame shown")
 run() {
-  local name=$1 machine=$2 elf=$3 out="$work/$1.txt"
-  timeout 30 qemu-system-arm -M "$machine" -display none "${qemu[@]}" -kernel "$elf" >"$out" 2>/dev/null &
+  local name=$1 machine=$2 elf out
+  elf=$(realpath "$3")
+  out=$(realpath "$work")/$1.txt
+  # Semihosting writes the frame files into the current directory: keep them in $work.
+  (cd "$work" && exec timeout 30 qemu-system-arm -M "$machine" -display none "${qemu[@]}" -kernel "$elf") >"$out" 2>/dev/null &
   local pid=$!
   for _ in $(seq 1 300); do
     kill -0 $pid 2>/dev/null || break
