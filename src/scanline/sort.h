@@ -15,9 +15,10 @@ namespace scan {
 constexpr uint32_t kQuickCutoff = 12;
 constexpr uint32_t kActiveInsertionMax = 40;   // random keys: insertion wins below ~40 (measured)
 
-// Insertion sort of a[0..n) by key(a[i]) ascending. Fast on nearly sorted input.
+// Insertion sort that gives up after `budget` comparisons + moves (a[] is then still a permutation,
+// partly sorted). Returns whether it finished.
 template <typename T, typename KeyFn>
-void insertion_sort(T* a, uint32_t n, KeyFn key, uint64_t* work) {
+bool insertion_sort_within(T* a, uint32_t n, KeyFn key, uint64_t budget, uint64_t* work) {
   uint64_t w = 0;
   for (uint32_t i = 1; i < n; ++i) {
     const T v = a[i];
@@ -31,8 +32,16 @@ void insertion_sort(T* a, uint32_t n, KeyFn key, uint64_t* work) {
       --j;
     }
     if (j != i) { a[j] = v; w += 2; }
+    if (w > budget) { *work += w; return false; }
   }
   *work += w;
+  return true;
+}
+
+// Insertion sort of a[0..n) by key(a[i]) ascending. Fast on nearly sorted input.
+template <typename T, typename KeyFn>
+void insertion_sort(T* a, uint32_t n, KeyFn key, uint64_t* work) {
+  insertion_sort_within(a, n, key, UINT64_MAX, work);
 }
 
 // Non-recursive quicksort (Sedgewick's formulation: median of three, Hoare partition that stops on
@@ -120,29 +129,6 @@ template <typename T, typename KeyFn>
 void active_sort(T* a, uint32_t n, KeyFn key, uint64_t* work, uint32_t insertion_max = kActiveInsertionMax) {
   if (n <= insertion_max) insertion_sort(a, n, key, work);
   else heap_sort(a, n, key, work);
-}
-
-// Insertion sort that gives up after `budget` comparisons + moves (a[] is then still a permutation,
-// partly sorted). Returns whether it finished.
-template <typename T, typename KeyFn>
-bool insertion_sort_within(T* a, uint32_t n, KeyFn key, uint64_t budget, uint64_t* work) {
-  uint64_t w = 0;
-  for (uint32_t i = 1; i < n; ++i) {
-    const T v = a[i];
-    const auto k = key(v);
-    uint32_t j = i;
-    while (j > 0) {
-      ++w;
-      if (!(k < key(a[j - 1]))) break;
-      a[j] = a[j - 1];
-      ++w;
-      --j;
-    }
-    if (j != i) { a[j] = v; w += 2; }
-    if (w > budget) { *work += w; return false; }
-  }
-  *work += w;
-  return true;
 }
 
 // Moves per element the kept order may cost by insertion before heap sort takes over (measured on

@@ -82,12 +82,7 @@ class BandWriter : public CoverageWriter {
   void clear_piece() { wrote_piece_ = false; }
 
   bool write(int x, int band_y, int w, int h) override {
-    wrote_piece_ = true;
-    if (!shaded_) {
-      shade_triangle(*scene_, *light_, mode_, triangle_, front_facing_, &colors_);
-      shaded_ = true;
-      ++stats_->shading_calls;
-    }
+    first_write();
     if (factor_ > 1) {
       add_samples(x, band_y, w, h);
       return true;
@@ -97,12 +92,7 @@ class BandWriter : public CoverageWriter {
 
   bool write_block(uint64_t mask, int x, int band_y) override {
     if (factor_ == 1) return CoverageWriter::write_block(mask, x, band_y);
-    wrote_piece_ = true;
-    if (!shaded_) {
-      shade_triangle(*scene_, *light_, mode_, triangle_, front_facing_, &colors_);
-      shaded_ = true;
-      ++stats_->shading_calls;
-    }
+    first_write();
     // The block holds (8 / f)^2 pixels of f x f samples each.
     const int f = factor_, per_side = 8 / f;
     for (int j = 0; j < per_side; ++j)
@@ -114,6 +104,15 @@ class BandWriter : public CoverageWriter {
   }
 
  private:
+  // Every write of a piece: it counts as drawn, and it is shaded once, on the first.
+  void first_write() {
+    wrote_piece_ = true;
+    if (shaded_) return;
+    shade_triangle(*scene_, *light_, mode_, triangle_, front_facing_, &colors_);
+    shaded_ = true;
+    ++stats_->shading_calls;
+  }
+
   bool write_pixels(int x, int band_y, int w, int h) {
     const int y = band_y + top_;
     stats_->pixel_writes += uint64_t(w) * uint64_t(h);

@@ -2,21 +2,13 @@
 // only to find the screen bounding box and the projected edges, then cast a ray through every pixel
 // centre in that box (Moller-Trumbore) and keep the two nearest hits per pixel.
 #include "tests/oracle/oracle.h"
+#include "tests/oracle/vec3_math.h"
 
 #include <algorithm>
 #include <cmath>
 
 namespace oracle {
 namespace {
-
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-Vec3 add(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-Vec3 scale(const Vec3& a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-Vec3 normalized(const Vec3& a) { return scale(a, 1.0 / std::sqrt(dot(a, a))); }
 
 struct Point2 {
   double x, y;

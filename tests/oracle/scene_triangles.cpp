@@ -83,4 +83,27 @@ Camera to_oracle_camera(const ml::Camera& c) {
   return o;
 }
 
+ml::Pixel base_colour(const ml::Scene& scene, int64_t id, ml::Pixel background) {
+  if (id < 0) return background;
+  const ml::Material& m = scene.materials[scene.batches[ml::triangle_at(scene, uint32_t(id)).batch].material];
+  return ml::rgb(m.base_color[0], m.base_color[1], m.base_color[2]);
+}
+
+std::vector<double> box_filtered_unlit(const ml::Scene& scene, const ml::Camera& camera, int rays,
+                                       ml::Pixel background) {
+  Camera c = to_oracle_camera(camera);
+  c.width *= rays;
+  c.height *= rays;
+  const Result ref = rasterize(scene_triangles(scene), c);
+  std::vector<double> out(size_t(camera.width) * size_t(camera.height) * 3, 0.0);
+  const double weight = 1.0 / (rays * rays);
+  for (int y = 0; y < ref.height; ++y)
+    for (int x = 0; x < ref.width; ++x) {
+      const ml::Pixel p = base_colour(scene, ref.id[ref.index(x, y)], background);
+      const size_t i = size_t(y / rays) * size_t(camera.width) + size_t(x / rays);
+      for (int k = 0; k < 3; ++k) out[i * 3 + size_t(k)] += double((p >> (16 - 8 * k)) & 0xFF) * weight;
+    }
+  return out;
+}
+
 }  // namespace oracle

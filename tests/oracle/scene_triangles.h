@@ -3,6 +3,7 @@
 #pragma once
 #include <vector>
 
+#include "core/sink.h"
 #include "scene/scene.h"
 #include "tests/oracle/oracle.h"
 #include "tests/oracle/texturer.h"
@@ -21,5 +22,13 @@ std::vector<Texture> scene_textures(const ml::Scene& scene);
 
 // The same camera in doubles (world units, degrees).
 Camera to_oracle_camera(const ml::Camera& camera);
+
+// Triangle `id`'s unlit colour (its material's base colour), `background` for id < 0 (no hit).
+ml::Pixel base_colour(const ml::Scene& scene, int64_t id, ml::Pixel background);
+
+// The oracle's unlit picture box-filtered from rays x rays rays a pixel: per pixel, the mean of each
+// channel (0..255, as doubles) of the rays' base colours, three values a pixel.
+std::vector<double> box_filtered_unlit(const ml::Scene& scene, const ml::Camera& camera, int rays,
+                                       ml::Pixel background);
 
 }  // namespace oracle

@@ -1,18 +1,10 @@
 #include "tests/oracle/texturer.h"
+#include "tests/oracle/vec3_math.h"
 
 #include <cmath>
 
 namespace oracle {
 namespace {
-
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-Vec3 add(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-Vec3 scale(const Vec3& a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-Vec3 normalized(const Vec3& a) { return scale(a, 1.0 / std::sqrt(dot(a, a))); }
 
 int wrap(long i, int n, Wrap mode) {
   if (mode == Wrap::Clamp) return int(i < 0 ? 0 : (i >= n ? n - 1 : i));

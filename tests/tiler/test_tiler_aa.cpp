@@ -99,11 +99,6 @@ void random_scene(uint32_t seed, int count, mlhost::LoadedScene* out) {
   ASSERT_TRUE(mlhost::adopt_compiled(c, "random", out, &error)) << error;
 }
 
-ml::Pixel base_colour(const ml::Scene& scene, int64_t id) {
-  if (id < 0) return kBackground;
-  const ml::Material& m = scene.materials[scene.batches[ml::triangle_at(scene, id).batch].material];
-  return ml::rgb(m.base_color[0], m.base_color[1], m.base_color[2]);
-}
 
 // The oracle's samples: one ray per sample of an f x f grid a pixel (a camera f times larger).
 oracle::Result oracle_samples(const ml::Scene& scene, const ml::Camera& camera, int f) {
@@ -137,7 +132,7 @@ Comparison compare_with_oracle(const ml::Scene& scene, const ml::Camera& camera,
       for (int sy = 0; sy < f; ++sy)
         for (int sx = 0; sx < f; ++sx) {
           const int x = px * f + sx, y = py * f + sy;
-          const ml::Pixel c = base_colour(scene, ref.id[ref.index(x, y)]);
+          const ml::Pixel c = oracle::base_colour(scene, ref.id[ref.index(x, y)], kBackground);
           if (sx == 0 && sy == 0) first_colour = c;
           mixed = mixed || c != first_colour;
           for (int k = 0; k < 3; ++k) sum[k] += channel(c, k);
@@ -245,17 +240,6 @@ double rms_against(const std::vector<ml::Pixel>& img, const std::vector<double>&
   return std::sqrt(sum / double(img.size() * 3));
 }
 
-std::vector<double> reference_16x16(const ml::Scene& scene, const ml::Camera& camera) {
-  const oracle::Result ref = oracle_samples(scene, camera, 16);
-  std::vector<double> out(size_t(camera.width) * size_t(camera.height) * 3, 0.0);
-  for (int y = 0; y < ref.height; ++y)
-    for (int x = 0; x < ref.width; ++x) {
-      const ml::Pixel c = base_colour(scene, ref.id[ref.index(x, y)]);
-      const size_t p = size_t(y / 16) * size_t(camera.width) + size_t(x / 16);
-      for (int k = 0; k < 3; ++k) out[p * 3 + size_t(k)] += channel(c, k) / 256.0;
-    }
-  return out;
-}
 
 // More samples, less error: each doubling of the grid lowers the RMS error against the 16 x 16
 // reference, 8 x 8 is within a quarter of the point-sampled error and no worse than the scanline
@@ -267,7 +251,7 @@ TEST(TilerAa, ErrorFallsAsSamplesGrow) {
     mlhost::LoadedScene s;
     random_scene(seed, 24, &s);
     const ml::Camera camera = framing(s.scene, 48, 36);
-    const std::vector<double> reference = reference_16x16(s.scene, camera);
+    const std::vector<double> reference = oracle::box_filtered_unlit(s.scene, camera, 16, kBackground);
     auto error = [&](ml::RendererKind renderer, int aa) {
       const Image img = render_colour(s.scene, camera, renderer, aa);
       EXPECT_TRUE(img.ok) << img.error;

@@ -24,29 +24,6 @@ constexpr ml::Pixel kBackground = 0x202830;
 
 int channel(uint32_t p, int c) { return int(p >> (16 - 8 * c)) & 0xFF; }
 
-ml::Pixel base_colour(const ml::Scene& scene, int64_t id) {
-  if (id < 0) return kBackground;
-  const ml::Material& m = scene.materials[scene.batches[ml::triangle_at(scene, id).batch].material];
-  return ml::rgb(m.base_color[0], m.base_color[1], m.base_color[2]);
-}
-
-// Per pixel and channel, the mean of the reference rays' base colours.
-std::vector<double> reference(const ml::Scene& scene, const ml::Camera& camera) {
-  oracle::Camera c = oracle::to_oracle_camera(camera);
-  c.width *= kReferenceSamples;
-  c.height *= kReferenceSamples;
-  const oracle::Result ref = oracle::rasterize(oracle::scene_triangles(scene), c);
-  std::vector<double> out(size_t(camera.width) * size_t(camera.height) * 3, 0.0);
-  const double weight = 1.0 / (kReferenceSamples * kReferenceSamples);
-  for (int y = 0; y < ref.height; ++y)
-    for (int x = 0; x < ref.width; ++x) {
-      const ml::Pixel p = base_colour(scene, ref.id[ref.index(x, y)]);
-      const size_t i = size_t(y / kReferenceSamples) * size_t(camera.width) + size_t(x / kReferenceSamples);
-      for (int k = 0; k < 3; ++k) out[i * 3 + size_t(k)] += channel(p, k) * weight;
-    }
-  return out;
-}
-
 bool render_unlit(const ml::Scene& scene, const ml::Camera& camera, ml::RendererKind renderer, int aa,
                   std::vector<ml::Pixel>* pixels) {
   ml::RenderOptions o;
@@ -83,7 +60,7 @@ int quality(const std::string& path, const std::string& size) {
   }
   const ml::Scene& scene = loaded.scene;
   const ml::Camera camera = bench_camera(path, scene, w, h);
-  const std::vector<double> ref = reference(scene, camera);
+  const std::vector<double> ref = oracle::box_filtered_unlit(scene, camera, kReferenceSamples, kBackground);
   const struct {
     ml::RendererKind kind;
     const char* name;

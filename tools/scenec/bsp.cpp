@@ -470,30 +470,25 @@ class Builder {
   // A mesh-line plane is taken only when each side keeps fewer pieces than the node (so the build
   // terminates).
   bool cut_makes_progress(const Plane& p, const std::vector<Piece>& pieces) const {
-    size_t front = 0, back = 0;
-    int64_t s[3];
-    for (const Piece& piece : pieces) {
-      switch (classify(p, piece, s)) {
-        case Side::Front: ++front; break;
-        case Side::Back: ++back; break;
-        case Side::Split: ++front; ++back; break;
-        case Side::On: break;
-      }
-    }
+    size_t front, back;
+    count_sides(p, pieces, &front, &back);
     return front < pieces.size() && back < pieces.size();
   }
 
-  bool axis_makes_progress(const Plane& p, const std::vector<Piece>& pieces) const {
-    size_t front = 0, back = 0;
+  // Pieces a plane would send to each side (a split piece goes to both, pieces on it to neither).
+  void count_sides(const Plane& p, const std::vector<Piece>& pieces, size_t* front, size_t* back) const {
+    *front = *back = 0;
     int64_t s[3];
     for (const Piece& piece : pieces) {
-      switch (classify(p, piece, s)) {
-        case Side::Front: ++front; break;
-        case Side::Back: ++back; break;
-        case Side::Split: ++front; ++back; break;
-        case Side::On: break;
-      }
+      const Side side = classify(p, piece, s);
+      *front += side == Side::Front || side == Side::Split;
+      *back += side == Side::Back || side == Side::Split;
     }
+  }
+
+  bool axis_makes_progress(const Plane& p, const std::vector<Piece>& pieces) const {
+    size_t front, back;
+    count_sides(p, pieces, &front, &back);
     const size_t limit = pieces.size() * 7 / 8;
     return front <= limit && back <= limit;
   }
