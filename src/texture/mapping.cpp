@@ -172,11 +172,19 @@ const TexturePiece& texture_piece(TexturePlanes& p, int32_t x, int32_t y) {
   if (y == piece.y && x >= piece.x && x - piece.x < (int32_t(1) << piece.bits)) return piece;
   const TextureSegment& sg = segment_at(p, x & ~(kTextureSegment - 1), y);
   const int32_t bits = sg.bits;
+  piece.y = y;
+  piece.bits = bits;
+  if (bits == kTextureSegmentBits) {  // the common case: the whole segment is one piece
+    piece.x = sg.x;
+    for (int k = 0; k < 2; ++k) {
+      piece.uv[k] = sg.ends[0].uv[k];
+      piece.step[k] = int64_t(sg.ends[1].uv[k]) - sg.ends[0].uv[k];
+    }
+    return piece;
+  }
   const int32_t start = x & ~((int32_t(1) << bits) - 1);
   const ExactUv s = exact_in(p, sg, start, y);
   piece.x = start;
-  piece.y = y;
-  piece.bits = bits;
   piece.uv[0] = s.uv[0];
   piece.uv[1] = s.uv[1];
   piece.step[0] = piece.step[1] = 0;

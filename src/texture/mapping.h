@@ -10,15 +10,23 @@
 // identically; triangles crossing the near plane need no special case.
 //
 // The division is not made at every sample. A row is cut into segments of kTextureSegment samples
-// at fixed lattice columns (multiples of the length, whatever span a renderer draws); the exact
-// coordinates at a segment's two ends are divided out, and the samples in between interpolate them
-// linearly (affine), unless the error bound below says the segment is too curved: then it is halved
-// (down to one sample, where every sample is exact). The bound: interpolating u = N(t) / D(t) (N, D
-// linear along the segment) between its ends errs by at most |du| |dD| max(D) / (4 min(D)^2) scaled by
-// (length / kTextureSegment)^2 for a part of the segment (du, dD: the changes over the whole
-// segment), and the length kept is the longest whose bound is within kTextureAffineError of a texel
-// of the triangle's texture along both axes. Segment ends where D changes sign, vanishes, or the
-// coordinates saturate are never interpolated across.
+// at fixed lattice columns (multiples of the length, whatever span a renderer draws, so both
+// renderers interpolate between the same ends); the exact coordinates at a segment's two ends are
+// divided out and the samples between interpolate them linearly (affine), unless the error bound
+// says the segment is too curved: then it is cut in halves, quarters, ... down to single samples
+// (every sample exact). The bound: along a segment u = N(t) / D(t) with N and D linear (D = the sum
+// of the e_i), and interpolating between the ends errs by at most |du| |dD| / (4 min |D|); a part of
+// 1/k of the segment errs by at most |du| |dD| max|D| / (4 k^2 min|D|^2) (du, dD: the changes over
+// the whole segment). The longest part is kept whose bound, along both axes, is within
+//   - 2^-kTextureAffineErrorBitsNearest texel (nearest) or 2^-kTextureAffineErrorBitsBilinear texel
+//     (bilinear: a colour step between neighbouring texels moves by 2 levels at most), or
+//   - 2^-kTextureAffineShiftBits of the segment's mean texel step per sample (the sample takes the
+//     coordinates of a point at most 1/8 sample away along the row: minified textures, whose texels
+//     are smaller than a sample, need no finer precision than that).
+// Segments whose ends have D of different signs or zero, or saturated coordinates, are cut down to
+// single samples. tests/texture/mapping_test.cpp checks the bound against the exact division and
+// tests/oracle/texture_vs_oracle_test.cpp the images against the double-precision texturer.
+
 #pragma once
 #include <stdint.h>
 
@@ -28,10 +36,7 @@
 
 namespace ml {
 
-// Samples a segment spans (a power of two) and the largest affine error allowed, in texels: 2^-5
-// with nearest filtering (the texel chosen differs from the exact one only for samples that close to
-// a texel edge), 2^-7 with bilinear (a colour step between neighbouring texels moves by 2 levels
-// at most).
+// Samples a segment spans (a power of two) and the affine error bounds above.
 constexpr int kTextureSegmentBits = 5;
 constexpr int32_t kTextureSegment = 1 << kTextureSegmentBits;
 constexpr int kTextureAffineErrorBitsNearest = 5;

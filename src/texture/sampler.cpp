@@ -44,18 +44,28 @@ __attribute__((always_inline)) inline Pixel texel(const TextureTexels& t, const 
   }
 }
 
-// Texel (x, y) through a make_texel_lut table; F is the texture's format.
+// Texels (x, y) of format F through a make_texel_lut table. A value of its own, so that the loops
+// keep the fields in registers (stores of the colours cannot change them).
 template <TexelFormat F>
-__attribute__((always_inline)) inline Pixel lut_texel(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut,
-                                                      int32_t x, int32_t y) {
-  if (F == TexelFormat::Palette8) return lut[bytes[2u * t.palette_size + uint32_t(y) * t.width + uint32_t(x)]];
-  if (F == TexelFormat::Grey4) {
-    const uint32_t byte = bytes[uint32_t(y) * ((uint32_t(t.width) + 1) / 2) + uint32_t(x) / 2];
-    return lut[((x & 1) ? byte >> 4 : byte) & 15];
+struct LutTexels {
+  const uint8_t* texels;  // the indices (Palette8), levels (Grey4) or colours (Rgb565)
+  const Pixel* lut;
+  uint32_t row_shift;     // log2 of the bytes (Grey4) or texels a row
+  LutTexels(const TextureTexels& t, const uint8_t* bytes, const Pixel* table, int width_bits)
+      : texels(bytes + (F == TexelFormat::Palette8 ? 2u * t.palette_size : 0u)),
+        lut(table),
+        row_shift(uint32_t(F == TexelFormat::Grey4 && width_bits > 0 ? width_bits - 1 : width_bits)) {}
+  __attribute__((always_inline)) Pixel operator()(int32_t x, int32_t y) const {
+    const uint32_t row = uint32_t(y) << row_shift;
+    if (F == TexelFormat::Palette8) return lut[texels[row + uint32_t(x)]];
+    if (F == TexelFormat::Grey4) {
+      const uint32_t byte = texels[row + uint32_t(x) / 2];
+      return lut[((x & 1) ? byte >> 4 : byte) & 15];
+    }
+    const uint32_t c = load16(texels + 2 * (row + uint32_t(x)));
+    return lut[c >> 11] | lut[32 + ((c >> 5) & 63)] | lut[96 + (c & 31)];
   }
-  const uint32_t c = load16(bytes + 2 * (uint32_t(y) * t.width + uint32_t(x)));
-  return lut[c >> 11] | lut[32 + ((c >> 5) & 63)] | lut[96 + (c & 31)];
-}
+};
 
 // (a (256 - f) + b f + 128) >> 8 per channel, f in 0..256. Red and blue share one multiply in two
 // 16-bit lanes (each lane's sum stays below 2^16), green takes another: the same values as channel
@@ -111,33 +121,34 @@ Pixel textured_colour(const TextureTexels& t, const uint8_t* bytes, const int32_
 // index straight from the stepped coordinate: floor(floor(a / 2^bits) W / 2^16) is
 // a >> (bits + 16 - log2 W) for a power-of-two W.
 template <TexelFormat F, bool Bilinear, bool Repeat>
-void piece_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes,
+void piece_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& texture, const uint8_t* bytes,
                const Pixel* lut, Pixel after, int64_t j, int32_t n, Pixel* out) {
-  int64_t au = int64_t(pc.uv[0]) * (int64_t(1) << pc.bits) + pc.step[0] * j;
-  int64_t av = int64_t(pc.uv[1]) * (int64_t(1) << pc.bits) + pc.step[1] * j;
+  const TextureTexels t = texture;  // a local copy: its fields stay in registers
+  const LutTexels<F> fetch(t, bytes, lut, p.size_bits[0]);
+  const int bits = pc.bits;
+  int64_t au = int64_t(pc.uv[0]) * (int64_t(1) << bits) + pc.step[0] * j;
+  int64_t av = int64_t(pc.uv[1]) * (int64_t(1) << bits) + pc.step[1] * j;
   const int64_t su = pc.step[0], sv = pc.step[1];
   if (Bilinear) {
-    auto fetch = [&](int32_t x, int32_t y) { return lut_texel<F>(t, bytes, lut, x, y); };
     for (int32_t i = 0; i < n; ++i, au += su, av += sv)
-      out[i] = bilinear<Repeat>(t, int32_t(au >> pc.bits), int32_t(av >> pc.bits), fetch);
+      out[i] = bilinear<Repeat>(t, int32_t(au >> bits), int32_t(av >> bits), fetch);
     return;
   }
-  const int shift_u = pc.bits + 16 - p.size_bits[0], shift_v = pc.bits + 16 - p.size_bits[1];
+  const int shift_u = bits + 16 - p.size_bits[0], shift_v = bits + 16 - p.size_bits[1];
   if (Repeat) {
     const int32_t mask_u = int32_t(t.width) - 1, mask_v = int32_t(t.height) - 1;
     if (after == 0xFFFFFF) {
       for (int32_t i = 0; i < n; ++i, au += su, av += sv)
-        out[i] = lut_texel<F>(t, bytes, lut, int32_t(au >> shift_u) & mask_u, int32_t(av >> shift_v) & mask_v);
+        out[i] = fetch(int32_t(au >> shift_u) & mask_u, int32_t(av >> shift_v) & mask_v);
       return;
     }
     for (int32_t i = 0; i < n; ++i, au += su, av += sv)
-      out[i] = modulate_texel(
-          lut_texel<F>(t, bytes, lut, int32_t(au >> shift_u) & mask_u, int32_t(av >> shift_v) & mask_v), after);
+      out[i] = modulate_texel(fetch(int32_t(au >> shift_u) & mask_u, int32_t(av >> shift_v) & mask_v), after);
     return;
   }
   for (int32_t i = 0; i < n; ++i, au += su, av += sv) {
     const int32_t x = wrap(au >> shift_u, t.width, t.wrap_s), y = wrap(av >> shift_v, t.height, t.wrap_t);
-    out[i] = modulate_texel(lut_texel<F>(t, bytes, lut, x, y), after);
+    out[i] = modulate_texel(fetch(x, y), after);
   }
 }
 
