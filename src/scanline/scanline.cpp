@@ -592,17 +592,38 @@ struct Renderer {
   // §5: the texel at sample (x, y) modulates the shaded colour (the colour alone when the pager
   // falls back). Texture coordinates come from the whole triangle, as in the tiler.
   Pixel texture(uint32_t slot, uint32_t id, int32_t x, int32_t y, Pixel c) {
-    uint32_t& t = tex_of[slot];
-    if (!(t & kTexReady)) {
-      triangle_texture_planes(*scene, s.view, id, s.lat.den, s.lat.ox, s.lat.oy, &tex_planes[slot]);
-      t |= kTexReady;
-    }
-    const uint32_t texture = t & ~kTexReady;
+    const uint32_t texture = tex_of[slot] & ~kTexReady;
     const uint8_t* bytes = pager.get(texture);
     if (!bytes) return c;
     int32_t uv[2];
-    texture_uv(tex_planes[slot], x, y, uv);
-    return modulate_texel(sample_texture(scene->texture_texels[texture], bytes, uv), c);
+    texture_uv(planes_of(slot, id), x, y, uv);
+    return sample_texture(scene->texture_texels[texture], bytes, uv, c);
+  }
+  TexturePlanes& planes_of(uint32_t slot, uint32_t id) {
+    uint32_t& t = tex_of[slot];
+    if (!(t & kTexReady)) {
+      triangle_texture_planes(*scene, s.view, id, t, s.lat.den, s.lat.ox, s.lat.oy, &tex_planes[slot]);
+      t |= kTexReady;
+    }
+    return tex_planes[slot];
+  }
+  // Samples [x0, x1] of row y of textured piece `a` in a flat colour, into out: one texture_row (the
+  // same colours as shade() sample by sample). False when the piece is smooth (left to shade()).
+  bool texture_run(ActiveTri& a, int32_t x0, int32_t x1, int32_t y, Pixel* out) {
+    ensure_colors(a);
+    if (a.flags & kSmooth) return false;
+    const uint32_t slot = slot_of(a), texture = tex_of[slot] & ~kTexReady, n = uint32_t(x1 - x0 + 1);
+    stats->shading_calls += n;
+    const uint8_t* bytes = pager.get(texture);
+    if (!bytes) {
+      for (uint32_t i = 0; i < n; ++i) out[i] = a.color[0];
+      return true;
+    }
+    Pixel lut_colour;
+    const Pixel* lut = pager.texel_lut(texture, a.color[0], bytes, n, &lut_colour);
+    texture_row(planes_of(slot, a.id), scene->texture_texels[texture], bytes, lut, lut_colour, a.color[0], x0, y,
+                int32_t(n), out);
+    return true;
   }
   bool textured(uint32_t slot) const { return tex_of && tex_of[slot] != kNone; }
   uint32_t slot_of(const ActiveTri& a) const { return uint32_t(&a - act); }
@@ -781,6 +802,7 @@ struct Renderer {
       return;
     }
     if (!s.accumulate) {
+      if (textured(slot_of(a)) && texture_run(a, x0, x1, y, keep_surface + x0)) return;
       for (int32_t x = x0; x <= x1; ++x) keep_surface[x] = shade(a, x, y);
       return;
     }
