@@ -1,5 +1,7 @@
 #include "render/render.h"
 
+#include "core/band.h"
+
 #include "scanline/scanline.h"
 #include "tiler/tiler.h"
 
@@ -20,6 +22,12 @@ size_t render_arena_bytes(const Scene& scene, const Camera& camera, const Render
   const RenderOptions options = effective(given);
   return options.renderer == RendererKind::Tiler ? tiler_arena_bytes(scene, camera, options)
                                                  : scanline_arena_bytes(scene, camera, options);
+}
+
+size_t render_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& given) {
+  const RenderOptions options = effective(given);
+  const bool bands = band_rows_for(options.output, camera.height) < camera.height;
+  return options.renderer == RendererKind::Tiler && bands ? tiler_plan_bytes(scene) : 0;
 }
 
 Status render(const Scene& scene, const Camera& camera, const RenderOptions& given, Arena& arena,
