@@ -15,6 +15,13 @@ namespace ml {
 namespace {
 
 constexpr int kRowPixels = 64;  // Gouraud row buffer: rows of wider blocks go out in chunks
+// Texture segments kept per piece: one per row of a 16-row stretch (blocks are at most 8 rows high at
+// the finest level), so the next block along finds its rows' segments decided (texture/mapping.h).
+constexpr int kSegmentRowBits = 4;
+
+size_t segment_rows_bytes(size_t pager_bytes) {
+  return pager_bytes ? arena_worst_case(sizeof(TextureSegment) << kSegmentRowBits, 8) : 0;
+}
 
 // One traversal frame, 4 bytes: node index (< 2^31, the reader bounds counts far below) and, in the
 // top bit, whether the near side is done.
@@ -65,9 +72,10 @@ class BandWriter : public CoverageWriter {
     texture_ready_ = false;
   }
   // Textured pieces (texture/): the pager, and the view their texture planes are built in.
-  void use_textures(TexturePager* pager, const View* view) {
+  void use_textures(TexturePager* pager, const View* view, TextureSegment* segment_rows) {
     pager_ = pager->active() ? pager : nullptr;
     view_ = view;
+    segment_rows_ = segment_rows;
   }
   void begin_part(const ScreenTriangle* part) {
     part_ = part;
@@ -178,25 +186,45 @@ class BandWriter : public CoverageWriter {
   Pixel texel_at(int px, int py, Pixel c) {
     const uint8_t* bytes = pager_->get(texture_);
     if (!bytes) return c;
+    int32_t uv[2];
+    texture_uv(texture_planes(), px, py, uv);
+    return sample_texture(scene_->texture_texels[texture_], bytes, uv, c);
+  }
+  TexturePlanes& texture_planes() {
     if (!texture_ready_) {
-      triangle_texture_planes(*scene_, *view_, triangle_, 1, kSubpixelHalf, kSubpixelHalf, &texture_planes_);
+      triangle_texture_planes(*scene_, *view_, triangle_, texture_, 1, kSubpixelHalf, kSubpixelHalf,
+                              &texture_planes_);
+      use_segment_rows(&texture_planes_, segment_rows_, kSegmentRowBits);
       texture_ready_ = true;
     }
-    int32_t uv[2];
-    texture_uv(texture_planes_, px, py, uv);
-    return modulate_texel(sample_texture(scene_->texture_texels[texture_], bytes, uv), c);
+    return texture_planes_;
   }
 
-  // A block of a textured piece, pixel by pixel.
+  // A block of a textured piece: flat colours row by row (texture/sampler.h texture_row), smooth
+  // ones pixel by pixel.
   void write_textured(int x, int y, int w, int h) {
     stats_->shading_calls += uint64_t(w) * uint64_t(h);
+    const uint8_t* bytes = colors_.smooth ? nullptr : pager_->get(texture_);
+    if (!bytes) {
+      for (int yy = y; yy < y + h; ++yy)
+        for (int x0 = x; x0 < x + w; x0 += kRowPixels) {
+          const int n = min_of(kRowPixels, x + w - x0);
+          for (int i = 0; i < n; ++i) row_[i] = color_of_textured(x0 + i, yy);
+          out_.put_row(x0, yy, row_, n);
+        }
+      return;
+    }
+    const TextureTexels& t = scene_->texture_texels[texture_];
+    Pixel lut_colour;
+    const Pixel* lut = pager_->texel_lut(texture_, colors_.flat, bytes, uint32_t(w) * uint32_t(h), &lut_colour);
     for (int yy = y; yy < y + h; ++yy)
       for (int x0 = x; x0 < x + w; x0 += kRowPixels) {
         const int n = min_of(kRowPixels, x + w - x0);
-        for (int i = 0; i < n; ++i) row_[i] = texel_at(x0 + i, yy, base_at(x0 + i, yy));
+        texture_row(texture_planes(), t, bytes, lut, lut_colour, colors_.flat, x0, yy, n, row_);
         out_.put_row(x0, yy, row_, n);
       }
   }
+  Pixel color_of_textured(int px, int py) { return texel_at(px, py, base_at(px, py)); }
 
   // Samples [x, x + w) x [band_y, band_y + h) newly covered with the current colour. A pixel covered
   // whole by one write had none of its samples covered before (each is handed over once): it leaves
@@ -256,6 +284,7 @@ class BandWriter : public CoverageWriter {
   uint32_t texture_ = kNone;
   bool texture_ready_ = false;
   TexturePlanes texture_planes_{};
+  TextureSegment* segment_rows_ = nullptr;
 };
 
 // A BSP piece cut from a triangle has split vertices quantized like any vertex, so its outer edges
@@ -551,11 +580,16 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
     if (!t.ok()) return finish(error(t.code, t.message, need), arena);
     plan_textures();
   }
+  TextureSegment* segment_rows = nullptr;
+  if (pager_.active()) {
+    segment_rows = arena.allocate_array<TextureSegment>(size_t(1) << kSegmentRowBits);
+    if (!segment_rows) return finish(error(StatusCode::ArenaTooSmall, "arena too small", need), arena);
+  }
   Status s = out_.begin(options_.output, camera_.width, camera_.height, arena, sink);
   if (!s.ok()) return finish(s.code == StatusCode::ArenaTooSmall ? error(s.code, s.message, need) : s, arena);
   light_ = make_light(view_);
   BandWriter writer(out_, st_, row);
-  writer.use_textures(&pager_, &view_);
+  writer.use_textures(&pager_, &view_, segment_rows);
   writer_ = &writer;
   band_.factor = sample_factor(options_);
   if (band_.factor > 1) {
@@ -774,7 +808,7 @@ size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderO
   const int rows = band_rows_for(options.output, height), factor = clamp_to(sample_factor(options), 1, kMaxTilerAa);
   if (!band_layout(width, rows, factor, &layout)) return 0;
   const size_t pager = options.shading == ShadingMode::Ids ? 0 : TexturePager::arena_bytes(scene, options.texture_pool_bytes);
-  return pager + Pyramid::arena_bytes(layout) + sums_arena_bytes(factor, width, rows) +
+  return pager + segment_rows_bytes(pager) + Pyramid::arena_bytes(layout) + sums_arena_bytes(factor, width, rows) +
          arena_worst_case(sizeof(BspFrame) * bsp_stack_entries(scene), 4) +
          arena_worst_case(sizeof(Pixel) * kRowPixels, 4) +
          BandOutput::arena_bytes(options.output, width, height);
