@@ -81,8 +81,14 @@ int clip_polygon(const View& view, ClipPlane plane, const ClipVertex* in, int co
 // Screen position offset from the centre, in subpixels, before any range check (|result| < 2^57).
 // z > 0 (in front): a divisor below 2^31, so no 64-bit division on a 32-bit board (core/fixed.h).
 inline int64_t project_offset(const View& view, int32_t c, int32_t z) {
-  return div_round(view.focal_q8 * c, z);
+  // div_round with the divisor's sign known: rounds the magnitude, then restores the sign.
+  const int64_t n = view.focal_q8 * c;
+  const uint64_t q = udiv64(magnitude(n) + uint32_t(z) / 2, uint32_t(z));
+  return n < 0 ? -int64_t(q) : int64_t(q);
 }
+
+// |v| <= limit, as one unsigned comparison (limit < 2^62).
+inline bool within(int64_t v, int64_t limit) { return uint64_t(v + limit) <= uint64_t(2 * limit); }
 
 ScreenVertex make_screen_vertex(const View& view, const ClipVertex& c, int64_t offset_x, int64_t offset_y) {
   ScreenVertex s;
@@ -199,9 +205,9 @@ int triangle_facing(const View& view, const Vec3i world[3]) {
                             e1[0] * e2[1] - e1[1] * e2[0]};
   // The common case (triangles small against the world, eye not too far): every product is below
   // 2^61 and the plain sum fits.
-  const int64_t c_max = max_of(abs64(cross[0]), max_of(abs64(cross[1]), abs64(cross[2])));
-  const int64_t r_max = max_of(abs64(r[0]), max_of(abs64(r[1]), abs64(r[2])));
-  if (c_max < (int64_t(1) << 36) && r_max < (int64_t(1) << 25)) {
+  constexpr int64_t c_limit = (int64_t(1) << 36) - 1, r_limit = (int64_t(1) << 25) - 1;
+  if (within(cross[0], c_limit) && within(cross[1], c_limit) && within(cross[2], c_limit) &&
+      within(r[0], r_limit) && within(r[1], r_limit) && within(r[2], r_limit)) {
     const int64_t det = cross[0] * r[0] + cross[1] * r[1] + cross[2] * r[2];
     return det > 0 ? 1 : (det < 0 ? -1 : 0);
   }
@@ -244,7 +250,7 @@ bool unclipped(const View& view, const Vec3i world[3], Vec3i p[3], int64_t ox[3]
   for (int i = 0; i < 3; ++i) {
     ox[i] = project_offset(view, p[i].x, p[i].z);
     oy[i] = project_offset(view, p[i].y, p[i].z);
-    if (abs64(ox[i]) > guard || abs64(oy[i]) > guard) return false;
+    if (!within(ox[i], guard) || !within(oy[i], guard)) return false;
   }
   return true;
 }
