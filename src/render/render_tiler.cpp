@@ -1,4 +1,5 @@
 // The tiler's entry alone: an image that calls only this links no scanline code.
+#include "core/band.h"
 #include "render/entry.h"
 #include "tiler/tiler.h"
 
@@ -6,6 +7,11 @@ namespace ml {
 
 size_t render_tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
   return tiler_arena_bytes(scene, camera, effective_options(options));
+}
+
+size_t render_tiler_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
+  const bool bands = band_rows_for(effective_options(options).output, camera.height) < camera.height;
+  return bands ? tiler_plan_bytes(scene) : 0;
 }
 
 Status render_tiler(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
