@@ -30,6 +30,8 @@ Status render(const Scene& scene, const Camera& camera, const RenderOptions& giv
   *out = Stats{};
   if (options.shading != ShadingMode::Ids && options.output.format == PixelFormat::Id32)
     return error(StatusCode::InvalidArgument, "the Id32 output format is for ids shading only");
+  if (options.renderer == RendererKind::Scanline && options.filter != FilterKind::Box)
+    return error(StatusCode::Unsupported, "the scanline renderer filters with its own box (filter is the tiler's)");
   const Status s = options.renderer == RendererKind::Tiler
                        ? tiler_render(scene, camera, options, arena, sink, out)
                        : scanline_render(scene, camera, options, arena, sink, out);

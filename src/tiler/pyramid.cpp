@@ -45,19 +45,21 @@ bool Pyramid::allocate(const PyramidLayout& l, Arena& arena) {
 }
 
 // Bits of an 8x8 mask whose subcells (side 2^sub samples, mask origin x0, y0) lie wholly or partly
-// off screen.
+// off screen: a subcell is off screen by its column or by its row, so eight of each decide.
 static void offscreen_bits(int x0, int y0, int sub, int width, int height, uint64_t* wholly,
                            uint64_t* partly) {
-  *wholly = 0;
-  *partly = 0;
   const int q = 1 << sub;
-  for (int row = 0; row < 8; ++row)
-    for (int col = 0; col < 8; ++col) {
-      const int x = x0 + col * q, y = y0 + row * q;
-      const uint64_t bit = uint64_t(1) << (row * 8 + col);
-      if (x >= width || y >= height) *wholly |= bit;
-      else if (x + q > width || y + q > height) *partly |= bit;
-    }
+  uint64_t cols_whole = 0, cols_part = 0, rows_whole = 0, rows_part = 0;
+  for (int i = 0; i < 8; ++i) {
+    const int x = x0 + i * q, y = y0 + i * q;
+    if (x >= width) cols_whole |= uint64_t(1) << i;
+    else if (x + q > width) cols_part |= uint64_t(1) << i;
+    if (y >= height) rows_whole |= uint64_t(0xFF) << (8 * i);
+    else if (y + q > height) rows_part |= uint64_t(0xFF) << (8 * i);
+  }
+  constexpr uint64_t kEveryRow = 0x0101010101010101u;
+  *wholly = cols_whole * kEveryRow | rows_whole;
+  *partly = (cols_part * kEveryRow | rows_part) & ~*wholly;
 }
 
 void Pyramid::clear() {

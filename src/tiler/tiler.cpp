@@ -7,6 +7,7 @@
 #include "texture/mapping.h"
 #include "texture/pager.h"
 #include "texture/sampler.h"
+#include "tiler/filter.h"
 #include "tiler/tile.h"
 
 namespace ml {
@@ -46,9 +47,11 @@ class BandWriter : public CoverageWriter {
     sums_ = sums;
     width_ = width;
   }
+  // The cosine-hump filter instead of the box (filter.h): masks go to it, per source pixel.
+  void use_filter(CosineFilter* filter) { cosine_ = filter; }
   void begin_band(int top, int rows) {
     top_ = top;
-    if (factor_ > 1)
+    if (factor_ > 1 && !cosine_)
       for (size_t i = 0; i < size_t(rows) * size_t(width_); ++i) sums_[i] = PixelSum{0, 0, 0, 0};
   }
   void begin_piece(const Scene* scene, const Light* light, ShadingMode mode, uint32_t triangle,
@@ -83,6 +86,10 @@ class BandWriter : public CoverageWriter {
 
   bool write(int x, int band_y, int w, int h) override {
     first_write();
+    if (cosine_) {
+      filter_samples(x, band_y, w, h);
+      return true;
+    }
     if (factor_ > 1) {
       add_samples(x, band_y, w, h);
       return true;
@@ -97,8 +104,12 @@ class BandWriter : public CoverageWriter {
     const int f = factor_, per_side = 8 / f;
     for (int j = 0; j < per_side; ++j)
       for (int i = 0; i < per_side; ++i) {
-        const uint64_t m = mask & (pixel_mask_ << (j * f * 8 + i * f));
-        if (m != 0) add_to_pixel(x / f + i, band_y / f + j, uint32_t(__builtin_popcountll(m)));
+        const int shift = j * f * 8 + i * f;
+        const uint64_t m = mask & (pixel_mask_ << shift);
+        if (m == 0) continue;
+        const int px = x / f + i, py = band_y / f + j + top_;
+        if (cosine_) cosine_->add(px, py, CosineFilter::expand(m >> shift, f), color_at(px, py));
+        else add_to_pixel(px, py - top_, uint32_t(__builtin_popcountll(m)));
       }
     return true;
   }
@@ -213,6 +224,36 @@ class BandWriter : public CoverageWriter {
     }
   }
 
+  // Samples [x, x + w) x [band_y, band_y + h) newly covered, into the cosine filter: the pixels they
+  // cover whole as one rectangle (of one colour) or one by one, partial pixels (the halo's half row,
+  // or blocks smaller than a pixel) as masks.
+  void filter_samples(int x, int band_y, int w, int h) {
+    const int f = factor_;
+    const int px0 = (x + f - 1) / f, px1 = (x + w) / f, py0 = (band_y + f - 1) / f, py1 = (band_y + h) / f;
+    if (px0 < px1 && py0 < py1) filter_whole(px0, py0 + top_, px1 - px0, py1 - py0);
+    for (int py = band_y / f; py <= (band_y + h - 1) / f; ++py) {
+      const int r0 = max_of(band_y, py * f) - py * f, r1 = min_of(band_y + h, (py + 1) * f) - py * f;
+      for (int px = x / f; px <= (x + w - 1) / f; ++px) {
+        if (px >= px0 && px < px1 && py >= py0 && py < py1) continue;  // whole: done above
+        const int c0 = max_of(x, px * f) - px * f, c1 = min_of(x + w, (px + 1) * f) - px * f;
+        const uint64_t row = ((uint64_t(1) << c1) - 1) & ~((uint64_t(1) << c0) - 1);
+        uint64_t m = 0;
+        for (int r = r0; r < r1; ++r) m |= row << (8 * r);
+        cosine_->add(px, py + top_, CosineFilter::expand(m, f), color_at(px, py + top_));
+      }
+    }
+  }
+
+  // Pixels [px, px + w) x [py, py + h) of the frame covered whole by the current piece.
+  void filter_whole(int px, int py, int w, int h) {
+    if (!colors_.smooth && texture_ == kNone) {
+      cosine_->add_flat_rect(px, py, w, h, colors_.flat);
+      return;
+    }
+    for (int y = py; y < py + h; ++y)
+      for (int x = px; x < px + w; ++x) cosine_->add(x, y, ~uint64_t(0), color_at(x, y));
+  }
+
   // n more samples of pixel (px, band row py) in the current colour.
   void add_to_pixel(int px, int py, uint32_t n) {
     const Pixel c = color_at(px, py + top_);
@@ -238,6 +279,7 @@ class BandWriter : public CoverageWriter {
   int factor_ = 1, factor_bits_ = 0, width_ = 0;
   uint64_t pixel_mask_ = 0;
   PixelSum* sums_ = nullptr;
+  CosineFilter* cosine_ = nullptr;
   int top_ = 0;
   const Scene* scene_ = nullptr;
   const Light* light_ = nullptr;
@@ -417,12 +459,13 @@ void box_screen_rect(const View& view, const ViewBox& box, int32_t* x0, int32_t*
 // The rows of the screen one band covers: the pyramid holds only these, and polygons are moved into
 // band-local rows (E(x, y + top) folds top into c, so coverage is the screen's exactly).
 struct BandRows {
-  int top = 0, rows = 0;  // pixels
+  int top = 0, rows = 0;  // pixels: the band's own rows, and a partial row below for the cosine filter
   int factor = 1;         // samples a pixel per axis
+  int samples = 0;        // sample rows tiled: rows * factor, or the band's own and a halo (tiled_samples)
 
   // Moves a screen-space polygon (box in samples) into the band; false when it has no row there.
   bool clip(ConvexPoly* poly) const {
-    const int first = top * factor, count = rows * factor;
+    const int first = top * factor, count = samples;
     if (poly->max_y < first || poly->min_y >= first + count || poly->min_x > poly->max_x) return false;
     for (int i = 0; i < poly->n; ++i) poly->edge[i].c += poly->edge[i].b * (int64_t(top) * kSubpixelOne);
     poly->min_y = max_of(poly->min_y - first, 0);
@@ -451,7 +494,7 @@ bool subtree_hidden(const View& view, const BandRows& band, const BspNode& node,
   box.min_x = x0 * f;
   box.max_x = x1 * f + f - 1;
   box.min_y = y0 * f;
-  box.max_y = y1 * f + f - 1;
+  box.max_y = min_of(y1 * f + f - 1, band.samples - 1);
   return !tiler.box_visible(box);  // false for an empty (off-screen) box too
 }
 
@@ -460,14 +503,34 @@ int sample_factor(const RenderOptions& options) {
   return options.shading == ShadingMode::Ids ? 1 : options.aa;
 }
 
+bool uses_cosine(const RenderOptions& options) {
+  return sample_factor(options) > 1 && options.filter == FilterKind::Cosine;
+}
+
+// Sample rows tiled below a band's own (the halo): a cosine-filtered pixel needs the samples of its
+// neighbours within one pixel of its centre, so the band's last row needs the top half of the next
+// band's first row; what the band's last row gives the next band's first is carried (filter.h).
+int halo_samples(const RenderOptions& options) { return uses_cosine(options) ? sample_factor(options) / 2 : 0; }
+
+// Sample rows of a band of `rows` own pixel rows from `top`: its own, and the halo inside the frame.
+int tiled_samples(const RenderOptions& options, int top, int rows, int height) {
+  const int f = sample_factor(options);
+  return min_of(rows * f + halo_samples(options), (height - top) * f);
+}
+
 // Arena bytes of the antialiasing sums of one band.
-size_t sums_arena_bytes(int factor, int width, int rows) {
-  return factor > 1 ? arena_worst_case(sizeof(PixelSum) * size_t(width) * size_t(rows), alignof(PixelSum)) : 0;
+size_t sums_arena_bytes(const RenderOptions& options, int width, int rows) {
+  if (uses_cosine(options)) return arena_worst_case(sizeof(FilterSum) * CosineFilter::sums_count(width, rows), alignof(FilterSum));
+  return sample_factor(options) > 1
+             ? arena_worst_case(sizeof(PixelSum) * size_t(width) * size_t(rows), alignof(PixelSum))
+             : 0;
 }
 
 Status check_options(const Camera& camera, const RenderOptions& options) {
   if (options.aa != 1 && options.aa != 2 && options.aa != 4 && options.aa != 8)
     return error(StatusCode::Unsupported, "the tiler takes 1, 2, 4 or 8 samples a pixel per axis (aa)");
+  if (options.filter == FilterKind::Cosine && options.aa == 1 && options.shading != ShadingMode::Ids)
+    return error(StatusCode::Unsupported, "the cosine filter needs samples: aa 2, 4 or 8");
   if (options.shading == ShadingMode::Lines)
     return error(StatusCode::Unsupported, "the tiler has no hidden-line mode (use the scanline renderer)");
   if (camera.width < 1 || camera.height < 1 || camera.width > kMaxScreenDim ||
@@ -479,10 +542,9 @@ Status check_options(const Camera& camera, const RenderOptions& options) {
   return BandOutput::check(options.output);
 }
 
-// Pyramid layout of one band (the last band may be lower than the others), in samples.
-bool band_layout(int width, int rows, int factor, PyramidLayout* out) {
-  return make_pyramid_layout(clamp_to(width, 1, kMaxScreenDim) * factor,
-                             clamp_to(rows, 1, kMaxScreenDim) * factor, out);
+// Pyramid layout of one band (the last band may be lower than the others): width pixels, sample rows.
+bool band_layout(int width, int samples, int factor, PyramidLayout* out) {
+  return make_pyramid_layout(clamp_to(width, 1, kMaxScreenDim) * factor, clamp_to(samples, 1, kMaxSampleDim), out);
 }
 
 // One frame: the BSP walked front to back once per band, each band's pyramid rebuilt in the same
@@ -519,6 +581,7 @@ class TilerFrame {
   HierTiler tiler_;
   BandRows band_;
   BandWriter* writer_ = nullptr;
+  CosineFilter cosine_;
   BspFrame* stack_ = nullptr;
   size_t stack_cap_ = 0;
   TexturePager pager_;
@@ -542,7 +605,13 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
   writer.use_textures(&pager_, &view_);
   writer_ = &writer;
   band_.factor = sample_factor(options_);
-  if (band_.factor > 1) {
+  if (uses_cosine(options_)) {
+    FilterSum* sums = arena.allocate_array<FilterSum>(CosineFilter::sums_count(camera_.width, out_.band_rows()));
+    if (!sums) return finish(error(StatusCode::ArenaTooSmall, "arena too small", need), arena);
+    cosine_.init(sums, camera_.width, camera_.height, out_.band_rows(), &out_, st_);
+    writer.oversample(band_.factor, nullptr, camera_.width);
+    writer.use_filter(&cosine_);
+  } else if (band_.factor > 1) {
     PixelSum* sums = arena.allocate_array<PixelSum>(size_t(camera_.width) * size_t(out_.band_rows()));
     if (!sums) return finish(error(StatusCode::ArenaTooSmall, "arena too small", need), arena);
     writer.oversample(band_.factor, sums, camera_.width);
@@ -560,15 +629,17 @@ Status TilerFrame::render_band(int band, Arena& arena) {
   Status s = out_.start_band(band);
   if (!s.ok()) return s;
   band_.top = out_.band_top(band);
-  band_.rows = out_.band_height(band);
+  band_.samples = tiled_samples(options_, band_.top, out_.band_height(band), camera_.height);
+  band_.rows = (band_.samples + band_.factor - 1) / band_.factor;  // with the halo's partial row
   PyramidLayout layout;
-  band_layout(camera_.width, band_.rows, band_.factor, &layout);
+  band_layout(camera_.width, band_.samples, band_.factor, &layout);
   const size_t mark = arena.mark();
   if (!pyramid_.allocate(layout, arena)) return error(StatusCode::ArenaTooSmall, "arena too small");
   pyramid_.clear();
   st_->pyramid_bytes = max_of(st_->pyramid_bytes, layout.bytes());
   tiler_.init(&pyramid_, kSubpixelOne / band_.factor, options_.work, band_.top);
   writer_->begin_band(band_.top, band_.rows);
+  if (uses_cosine(options_)) cosine_.begin_band(band_.top, out_.band_height(band));
   s = walk_bsp();
   if (!s.ok()) return s;
   writer_->begin_background(options_.shading == ShadingMode::Ids ? 0 : options_.background);
@@ -578,7 +649,7 @@ Status TilerFrame::render_band(int band, Arena& arena) {
   st_->cells_visited = tiler_.cells_visited;
   arena.release_to(mark);
   ++st_->bands;
-  pager_.rows_done(uint32_t(band_.top + band_.rows - 1));  // frees textures no later band uses
+  pager_.rows_done(uint32_t(band_.top + out_.band_height(band) - 1));  // frees textures no later band uses
   return out_.finish_band();
 }
 
@@ -702,9 +773,9 @@ size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderO
   PyramidLayout layout;
   const int width = clamp_to(camera.width, 1, kMaxScreenDim), height = clamp_to(camera.height, 1, kMaxScreenDim);
   const int rows = band_rows_for(options.output, height), factor = clamp_to(sample_factor(options), 1, kMaxTilerAa);
-  if (!band_layout(width, rows, factor, &layout)) return 0;
+  if (!band_layout(width, tiled_samples(options, 0, rows, height), factor, &layout)) return 0;
   const size_t pager = options.shading == ShadingMode::Ids ? 0 : TexturePager::arena_bytes(scene, options.texture_pool_bytes);
-  return pager + Pyramid::arena_bytes(layout) + sums_arena_bytes(factor, width, rows) +
+  return pager + Pyramid::arena_bytes(layout) + sums_arena_bytes(options, width, rows) +
          arena_worst_case(sizeof(BspFrame) * bsp_stack_entries(scene), 4) +
          arena_worst_case(sizeof(Pixel) * kRowPixels, 4) +
          BandOutput::arena_bytes(options.output, width, height);
