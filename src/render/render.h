@@ -1,4 +1,6 @@
-// One entry point for both renderers: the host CLI, tests and firmware call render().
+// One entry point for both renderers: the host CLI, tests and firmware call render(). An image that
+// uses one renderer only calls that renderer's entry (render_tiler, render_scanline), which links
+// nothing of the other (each entry is a translation unit of its own; render() references both).
 #pragma once
 #include <stddef.h>
 #include <stdint.h>
@@ -19,5 +21,14 @@ size_t render_arena_bytes(const Scene& scene, const Camera& camera, const Render
 
 Status render(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
               Sink& sink, Stats* stats);
+
+// render_arena_bytes and render with options.renderer taken as the tiler (render/render_tiler.cpp) or
+// the scanline renderer (render/render_scanline.cpp), whatever it says.
+size_t render_tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
+Status render_tiler(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
+                    Sink& sink, Stats* stats);
+size_t render_scanline_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
+Status render_scanline(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
+                       Sink& sink, Stats* stats);
 
 }  // namespace ml

@@ -6,6 +6,7 @@
 #include "scanline/internal.h"
 #include "scanline/sort.h"
 #include "scanline/wide.h"
+#include "shade/shade.h"
 #include "texture/mapping.h"
 #include "texture/pager.h"
 #include "texture/sampler.h"

@@ -1,7 +1,15 @@
 // Woo and Chall's scanline renderer: sorted triangle arrays, active lists, supersampling with one
 // shading call per pixel, rows streamed to the sink top to bottom. See docs/scanline.md.
 #pragma once
-#include "render/render.h"
+#include <stddef.h>
+
+#include "core/arena.h"
+#include "core/options.h"
+#include "core/sink.h"
+#include "core/stats.h"
+#include "core/status.h"
+#include "scene/scene.h"
+#include "view/view.h"
 
 namespace ml {
 

@@ -1,8 +1,11 @@
 // 128-bit intermediates for the scanline renderer's per-triangle setup (depth plane), without
 // relying on a compiler's __int128: 32-bit boards have none. Values are two's complement in (hi, lo).
-// Only setup uses these (once per activated triangle), so the portable division is bit-serial.
+// Setup runs once per activated triangle; the portable division takes 32-bit quotient digits (two or
+// four 64-by-32-bit divisions), since a bit-serial loop cost about half of a Cortex-M3 frame.
 #pragma once
 #include <stdint.h>
+
+#include "core/fixed.h"
 
 namespace ml {
 namespace scan {
@@ -46,6 +49,36 @@ inline Wide wide_mul(int64_t a, int64_t b) {
 // a << s for 0 < s < 64.
 inline Wide wide_shl(Wide a, int s) { return Wide{(a.hi << s) | (a.lo >> (64 - s)), a.lo << s}; }
 
+// floor((u1 2^64 + u0) / v) for v != 0 and u1 < v (so the quotient fits 64 bits), and the remainder
+// when asked: Hacker's Delight's divlu with 32-bit digits. Each digit is estimated by one 64-by-32-bit
+// division (udiv64: udiv_64_32 on a 32-bit board) of the top of the normalized numerator and
+// corrected at most twice.
+inline uint64_t udiv_128_64(uint64_t u1, uint64_t u0, uint64_t v, uint64_t* remainder) {
+  constexpr uint64_t b = uint64_t(1) << 32;
+  const int s = 64 - bit_length(v);  // normalize: top bit of the divisor set
+  v <<= s;
+  const uint64_t vn1 = v >> 32, vn0 = v & 0xFFFFFFFFu;
+  const uint64_t un32 = s == 0 ? u1 : (u1 << s) | (u0 >> (64 - s));
+  const uint64_t un10 = u0 << s;
+  const uint64_t un1 = un10 >> 32, un0 = un10 & 0xFFFFFFFFu;
+  uint64_t rhat;
+  uint64_t q1 = udiv64(un32, vn1, &rhat);
+  while (q1 >= b || q1 * vn0 > ((rhat << 32) | un1)) {  // q1 < b before the product: no overflow
+    --q1;
+    rhat += vn1;
+    if (rhat >= b) break;
+  }
+  const uint64_t un21 = (un32 << 32) + un1 - q1 * v;  // modulo 2^64; the true value is below v
+  uint64_t q0 = udiv64(un21, vn1, &rhat);
+  while (q0 >= b || q0 * vn0 > ((rhat << 32) | un0)) {
+    --q0;
+    rhat += vn1;
+    if (rhat >= b) break;
+  }
+  if (remainder) *remainder = ((un21 << 32) + un0 - q0 * v) >> s;
+  return (q1 << 32) | q0;
+}
+
 // n / d rounded to nearest (ties away from zero), d > 0; returns the low 64 bits of the quotient
 // (callers use wrapping arithmetic, see scanline.cpp: the plane is exact modulo 2^64).
 inline uint64_t wide_div_round_low(Wide n, int64_t d) {
@@ -53,16 +86,11 @@ inline uint64_t wide_div_round_low(Wide n, int64_t d) {
   Wide mag = neg ? wide_neg(n) : n;
   mag = wide_add(mag, wide_from(d / 2));
   const uint64_t den = uint64_t(d);
-  uint64_t rem = 0, q_lo = 0;
-  // Bit-serial long division; rem < den < 2^63 so rem << 1 never overflows. The high quotient word
-  // is not needed.
-  for (int i = 127; i >= 0; --i) {
-    const uint64_t bit = i >= 64 ? (mag.hi >> (i - 64)) & 1 : (mag.lo >> i) & 1;
-    rem = (rem << 1) | bit;
-    uint64_t qbit = 0;
-    if (rem >= den) { rem -= den; qbit = 1; }
-    if (i < 64) q_lo |= qbit << i;
-  }
+  // The quotient's high word is not needed, only the high word's remainder, which keeps the
+  // second division's quotient within 64 bits.
+  uint64_t hi = mag.hi;
+  if (hi >= den) udiv_128_64(0, hi, den, &hi);
+  const uint64_t q_lo = udiv_128_64(hi, mag.lo, den, nullptr);
   return neg ? uint64_t(0) - q_lo : q_lo;
 }
 

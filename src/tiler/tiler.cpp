@@ -4,6 +4,7 @@
 #include "tiler/tiler.h"
 
 #include "core/band.h"
+#include "shade/shade.h"
 #include "texture/mapping.h"
 #include "texture/pager.h"
 #include "texture/sampler.h"

@@ -225,13 +225,37 @@ TEST(ScanlineWide, PortableMatchesInt128) {
       b[i] = int64_t(rng() >> (14 + rng() % 48)) * ((rng() & 1) ? 1 : -1);
     }
     const int shift = int(rng() % 25);
-    const int64_t d = int64_t(rng() >> (13 + rng() % 50)) + 1;
+    const int64_t d = int64_t(rng() >> (2 + rng() % 61)) + 1;  // up to 2^62
     __int128 n = 0;
     for (int i = 0; i < 3; ++i) n += static_cast<__int128>(a[i]) * b[i];
     n *= static_cast<__int128>(1) << shift;
     const __int128 q = n >= 0 ? (n + d / 2) / d : -((-n + d / 2) / d);
     ASSERT_EQ(ml::scan::mul_add3_div_round_low_portable(a, b, shift, d), uint64_t(q)) << it;
     ASSERT_EQ(ml::scan::mul_add3_div_round_low(a, b, shift, d), uint64_t(q)) << it;
+  }
+}
+
+// The portable 128-by-64-bit division against __int128: random and extreme divisors (1, a single
+// top bit, all ones) and numerators up to the largest allowed high word (v - 1).
+TEST(ScanlineWide, Divide128By64MatchesInt128) {
+  std::mt19937_64 rng(12);
+  const uint64_t edges[] = {1, 2, 3, 0xFFFFFFFFu, uint64_t(1) << 32, (uint64_t(1) << 32) + 1,
+                            uint64_t(1) << 63, ~uint64_t(0), (uint64_t(1) << 63) - 1};
+  for (int it = 0; it < 200000; ++it) {
+    uint64_t v = it < 9 * 4 ? edges[it / 4] : rng() >> (rng() % 64);
+    if (v == 0) v = 1;
+    uint64_t u1 = 0;
+    switch (it % 4) {
+      case 0: u1 = 0; break;
+      case 1: u1 = v - 1; break;
+      default: u1 = rng() % v; break;
+    }
+    const uint64_t u0 = (it % 7 == 0) ? ~uint64_t(0) : rng();
+    const unsigned __int128 n = (static_cast<unsigned __int128>(u1) << 64) | u0;
+    uint64_t r = 0;
+    const uint64_t q = ml::scan::udiv_128_64(u1, u0, v, &r);
+    ASSERT_EQ(q, uint64_t(n / v)) << it << " " << u1 << " " << u0 << " " << v;
+    ASSERT_EQ(r, uint64_t(n % v)) << it;
   }
 }
 

@@ -126,13 +126,36 @@ inline void print_stats(ml::RendererKind k, const ml::Stats& s, uint64_t instruc
   print("}\n");
 }
 
+// The renderer entry of this image's configuration: an image of one renderer (FW_RENDERERS 1: tiler,
+// 2: scanline) calls that renderer's own entry, so the other renderer is not linked (about 10 KB of
+// flash on a Cortex-M3); an image of both calls render().
+inline ml::Status render_configured(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o,
+                                    ml::Arena& arena, ml::Sink& sink, ml::Stats* stats) {
+#if FW_RENDERERS == 1
+  return ml::render_tiler(scene, camera, o, arena, sink, stats);
+#elif FW_RENDERERS == 2
+  return ml::render_scanline(scene, camera, o, arena, sink, stats);
+#else
+  return ml::render(scene, camera, o, arena, sink, stats);
+#endif
+}
+inline size_t arena_bytes_configured(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o) {
+#if FW_RENDERERS == 1
+  return ml::render_tiler_arena_bytes(scene, camera, o);
+#elif FW_RENDERERS == 2
+  return ml::render_scanline_arena_bytes(scene, camera, o);
+#else
+  return ml::render_arena_bytes(scene, camera, o);
+#endif
+}
+
 // Renders one frame into `sink`; prints a failure. Returns the instructions it took (ticks times the
 // board's instructions per tick), or 0 when the render failed.
 inline uint64_t render_frame(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o,
                              ml::Sink& sink, ml::Stats* stats, uint32_t instructions_per_tick) {
   ml::Arena arena = make_arena();
   const uint64_t t0 = ticks_now();
-  const ml::Status s = ml::render(scene, camera, o, arena, sink, stats);
+  const ml::Status s = render_configured(scene, camera, o, arena, sink, stats);
   const uint64_t t1 = ticks_now();
   if (!s.ok()) {
     print("firmware: render failed: ");

@@ -103,7 +103,7 @@ int main() {
     if (!(FW_RENDERERS & (k == ml::RendererKind::Tiler ? 1 : 2))) continue;
     const ml::RenderOptions o = fw::options_for(k);
     fw::print_kv(k == ml::RendererKind::Tiler ? "arena_needed tiler" : "arena_needed scanline",
-                 ml::render_arena_bytes(scene, camera, o));
+                 fw::arena_bytes_configured(scene, camera, o));
     ml::Stats stats;
     fw::NullSink null_sink;
 #ifdef FW_COUNT_CALLS
