@@ -27,8 +27,10 @@ void mask_weights(uint64_t mask, uint64_t lanes[3]) {
 
 }  // namespace
 
-void CosineFilter::init(FilterSum* sums, int width, int height, int band_rows, BandOutput* out, Stats* stats) {
+void CosineFilter::init(FilterSum* sums, int width, int height, int f, int band_rows, BandOutput* out,
+                        Stats* stats) {
   sums_ = sums;
+  f_ = f;
   width_ = width;
   height_ = height;
   carry_ = band_rows;
@@ -83,6 +85,50 @@ constexpr uint64_t whole_lanes(int row) {
   return kCosineTotals[row * 3] | uint64_t(kCosineTotals[row * 3 + 1]) << 16 | uint64_t(kCosineTotals[row * 3 + 2]) << 32;
 }
 constexpr uint64_t kWholeLanes[3] = {whole_lanes(0), whole_lanes(1), whole_lanes(2)};
+
+void CosineFilter::add_samples(int x, int y, int w, int h, SourceColours& colours) {
+  const int f = f_;
+  const int px0 = (x + f - 1) / f, px1 = (x + w) / f, py0 = (y + f - 1) / f, py1 = (y + h) / f;
+  if (px0 < px1 && py0 < py1) {  // whole pixels
+    Pixel c;
+    if (colours.flat(&c)) {
+      add_flat_rect(px0, py0 + top_, px1 - px0, py1 - py0, c);
+    } else {
+      for (int py = py0 + top_; py < py1 + top_; ++py)
+        for (int px = px0; px < px1; ++px) add(px, py, ~uint64_t(0), colours.colour_at(px, py));
+    }
+  }
+  for (int py = y / f; py <= (y + h - 1) / f; ++py) {
+    const int r0 = max_of(y, py * f) - py * f, r1 = min_of(y + h, (py + 1) * f) - py * f;
+    for (int px = x / f; px <= (x + w - 1) / f; ++px) {
+      if (px >= px0 && px < px1 && py >= py0 && py < py1) continue;  // whole: done above
+      const int c0 = max_of(x, px * f) - px * f, c1 = min_of(x + w, (px + 1) * f) - px * f;
+      const uint64_t row = ((uint64_t(1) << c1) - 1) & ~((uint64_t(1) << c0) - 1);
+      uint64_t m = 0;
+      for (int r = r0; r < r1; ++r) m |= row << (8 * r);
+      add(px, py + top_, expand(m, f), colours.colour_at(px, py + top_));
+    }
+  }
+}
+
+void CosineFilter::add_block(uint64_t mask, int x, int y, SourceColours& colours) {
+  if (f_ == 8) {  // one pixel
+    const int px = x / 8, py = y / 8 + top_;
+    add(px, py, mask, colours.colour_at(px, py));
+    return;
+  }
+  // The block holds (8 / f)^2 pixels of f x f samples each.
+  const int f = f_, per_side = 8 / f;
+  const uint64_t pixel = f == 8 ? ~uint64_t(0) : ((uint64_t(1) << f) - 1) * (0x0101010101010101u >> (8 * (8 - f)));
+  for (int j = 0; j < per_side; ++j)
+    for (int i = 0; i < per_side; ++i) {
+      const int shift = j * f * 8 + i * f;
+      const uint64_t m = mask & (pixel << shift);
+      if (m == 0) continue;
+      const int px = x / f + i, py = y / f + j + top_;
+      add(px, py, expand(m >> shift, f), colours.colour_at(px, py));
+    }
+}
 
 void CosineFilter::add(int px, int py, uint64_t mask, Pixel c) {
   uint64_t lanes[3];

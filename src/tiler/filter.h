@@ -29,16 +29,51 @@ struct FilterSum {
   uint32_t r, g, b, weight;
 };
 
-class CosineFilter {
+// The colours of the samples being handed over: the piece being tiled, or the background.
+class SourceColours {
+ public:
+  // True (and *c) when every sample has one colour.
+  virtual bool flat(Pixel* c) = 0;
+  // The colour of the samples of frame pixel (px, py).
+  virtual Pixel colour_at(int px, int py) = 0;
+
+ protected:
+  ~SourceColours() = default;
+};
+
+// What the tiler's band writer hands newly covered samples to when a filter wider than the box makes
+// the pixels (the cosine-hump filter below). An interface, so an image whose entry never makes one
+// links none of its code or tables (render_tiler_box).
+class SampleFilter {
+ public:
+  // sums: sums_count(width, band_rows) entries; width, height: the frame's pixels; f samples a pixel
+  // per axis.
+  virtual void init(FilterSum* sums, int width, int height, int f, int band_rows, BandOutput* out, Stats* stats) = 0;
+  // The band's own rows [top, top + rows), tiled with the halo below them (sample row 0 is the top of
+  // pixel row `top`).
+  virtual void begin_band(int top, int rows) = 0;
+  // Newly covered band samples: the rectangle [x, x + w) x [y, y + h), or the set bits of the 8 x 8
+  // block at (x, y) (bit = row * 8 + col).
+  virtual void add_samples(int x, int y, int w, int h, SourceColours& colours) = 0;
+  virtual void add_block(uint64_t mask, int x, int y, SourceColours& colours) = 0;
+
+ protected:
+  ~SampleFilter() = default;
+};
+
+
+class CosineFilter final : public SampleFilter {
  public:
   // Sums for bands of at most band_rows rows: the band's and the carry row.
   static size_t sums_count(int width, int band_rows) { return size_t(width) * size_t(band_rows + 1); }
 
-  // sums: sums_count() entries; width, height: the frame's pixels.
-  void init(FilterSum* sums, int width, int height, int band_rows, BandOutput* out, Stats* stats);
-  // The band's own rows [top, top + rows), tiled with the halo below them: its first row starts from
-  // the carry of the band above.
-  void begin_band(int top, int rows);
+  void init(FilterSum* sums, int width, int height, int f, int band_rows, BandOutput* out, Stats* stats) override;
+  // The first row starts from the carry of the band above.
+  void begin_band(int top, int rows) override;
+  // Whole pixels of one colour as one rectangle, of varying colour one by one, partial pixels (the
+  // halo's half row, blocks smaller than a pixel) as masks.
+  void add_samples(int x, int y, int w, int h, SourceColours& colours) override;
+  void add_block(uint64_t mask, int x, int y, SourceColours& colours) override;
 
   // The samples of source pixel (px, py) set in `mask` (8 x 8 samples, bit = row * 8 + col) are
   // newly covered, in colour c.
@@ -80,6 +115,7 @@ class CosineFilter {
 
   FilterSum* sums_ = nullptr;
   int width_ = 0, height_ = 0, top_ = 0, rows_ = 0;
+  int f_ = 8;  // samples a pixel per axis
   int carry_ = 0;  // index of the carry row in sums_ (after the largest band's rows)
   BandOutput* out_ = nullptr;
   Stats* stats_ = nullptr;

@@ -35,7 +35,7 @@ struct PixelSum {
 
 // Turns newly covered sample blocks (band-local rows) into band-buffer writes of the current piece's
 // colours. Colours are computed on the first write, so hidden pieces cost no shading.
-class BandWriter : public CoverageWriter {
+class BandWriter : public CoverageWriter, public SourceColours {
  public:
   BandWriter(BandOutput& out, Stats* stats, Pixel* row) : out_(out), stats_(stats), row_(row) {}
 
@@ -49,7 +49,7 @@ class BandWriter : public CoverageWriter {
     width_ = width;
   }
   // The cosine-hump filter instead of the box (filter.h): masks go to it, per source pixel.
-  void use_filter(CosineFilter* filter) { cosine_ = filter; }
+  void use_filter(SampleFilter* filter) { cosine_ = filter; }
   void begin_band(int top, int rows) {
     top_ = top;
     if (factor_ > 1 && !cosine_)
@@ -88,7 +88,7 @@ class BandWriter : public CoverageWriter {
   bool write(int x, int band_y, int w, int h) override {
     first_write();
     if (cosine_) {
-      filter_samples(x, band_y, w, h);
+      cosine_->add_samples(x, band_y, w, h, *this);
       return true;
     }
     if (factor_ > 1) {
@@ -101,16 +101,16 @@ class BandWriter : public CoverageWriter {
   bool write_block(uint64_t mask, int x, int band_y) override {
     if (factor_ == 1) return CoverageWriter::write_block(mask, x, band_y);
     first_write();
+    if (cosine_) {
+      cosine_->add_block(mask, x, band_y, *this);
+      return true;
+    }
     // The block holds (8 / f)^2 pixels of f x f samples each.
     const int f = factor_, per_side = 8 / f;
     for (int j = 0; j < per_side; ++j)
       for (int i = 0; i < per_side; ++i) {
-        const int shift = j * f * 8 + i * f;
-        const uint64_t m = mask & (pixel_mask_ << shift);
-        if (m == 0) continue;
-        const int px = x / f + i, py = band_y / f + j + top_;
-        if (cosine_) cosine_->add(px, py, CosineFilter::expand(m >> shift, f), color_at(px, py));
-        else add_to_pixel(px, py - top_, uint32_t(__builtin_popcountll(m)));
+        const uint64_t m = mask & (pixel_mask_ << (j * f * 8 + i * f));
+        if (m != 0) add_to_pixel(x / f + i, band_y / f + j, uint32_t(__builtin_popcountll(m)));
       }
     return true;
   }
@@ -176,6 +176,13 @@ class BandWriter : public CoverageWriter {
     return rgb(ch[0], ch[1], ch[2]);
   }
 
+  // SourceColours, for the cosine filter.
+  bool flat(Pixel* c) override {
+    *c = colors_.flat;
+    return !colors_.smooth && texture_ == kNone;
+  }
+  Pixel colour_at(int px, int py) override { return color_at(px, py); }
+
   // Colour of the current piece (or the background) at pixel (px, py) of the frame, textured.
   Pixel color_at(int px, int py) {
     if (colors_.smooth || texture_ != kNone) ++stats_->shading_calls;
@@ -225,36 +232,6 @@ class BandWriter : public CoverageWriter {
     }
   }
 
-  // Samples [x, x + w) x [band_y, band_y + h) newly covered, into the cosine filter: the pixels they
-  // cover whole as one rectangle (of one colour) or one by one, partial pixels (the halo's half row,
-  // or blocks smaller than a pixel) as masks.
-  void filter_samples(int x, int band_y, int w, int h) {
-    const int f = factor_;
-    const int px0 = (x + f - 1) / f, px1 = (x + w) / f, py0 = (band_y + f - 1) / f, py1 = (band_y + h) / f;
-    if (px0 < px1 && py0 < py1) filter_whole(px0, py0 + top_, px1 - px0, py1 - py0);
-    for (int py = band_y / f; py <= (band_y + h - 1) / f; ++py) {
-      const int r0 = max_of(band_y, py * f) - py * f, r1 = min_of(band_y + h, (py + 1) * f) - py * f;
-      for (int px = x / f; px <= (x + w - 1) / f; ++px) {
-        if (px >= px0 && px < px1 && py >= py0 && py < py1) continue;  // whole: done above
-        const int c0 = max_of(x, px * f) - px * f, c1 = min_of(x + w, (px + 1) * f) - px * f;
-        const uint64_t row = ((uint64_t(1) << c1) - 1) & ~((uint64_t(1) << c0) - 1);
-        uint64_t m = 0;
-        for (int r = r0; r < r1; ++r) m |= row << (8 * r);
-        cosine_->add(px, py + top_, CosineFilter::expand(m, f), color_at(px, py + top_));
-      }
-    }
-  }
-
-  // Pixels [px, px + w) x [py, py + h) of the frame covered whole by the current piece.
-  void filter_whole(int px, int py, int w, int h) {
-    if (!colors_.smooth && texture_ == kNone) {
-      cosine_->add_flat_rect(px, py, w, h, colors_.flat);
-      return;
-    }
-    for (int y = py; y < py + h; ++y)
-      for (int x = px; x < px + w; ++x) cosine_->add(x, y, ~uint64_t(0), color_at(x, y));
-  }
-
   // n more samples of pixel (px, band row py) in the current colour.
   void add_to_pixel(int px, int py, uint32_t n) {
     const Pixel c = color_at(px, py + top_);
@@ -280,7 +257,7 @@ class BandWriter : public CoverageWriter {
   int factor_ = 1, factor_bits_ = 0, width_ = 0;
   uint64_t pixel_mask_ = 0;
   PixelSum* sums_ = nullptr;
-  CosineFilter* cosine_ = nullptr;
+  SampleFilter* cosine_ = nullptr;
   int top_ = 0;
   const Scene* scene_ = nullptr;
   const Light* light_ = nullptr;
@@ -553,8 +530,8 @@ bool band_layout(int width, int samples, int factor, PyramidLayout* out) {
 class TilerFrame {
  public:
   TilerFrame(const Scene& scene, const Camera& camera, const RenderOptions& options, const View& view,
-             Stats* st)
-      : scene_(scene), camera_(camera), options_(options), view_(view), st_(st) {}
+             Stats* st, SampleFilter* cosine)
+      : scene_(scene), camera_(camera), options_(options), view_(view), st_(st), cosine_(cosine) {}
 
   Status run(Arena& arena, Sink& sink);
 
@@ -582,7 +559,7 @@ class TilerFrame {
   HierTiler tiler_;
   BandRows band_;
   BandWriter* writer_ = nullptr;
-  CosineFilter cosine_;
+  SampleFilter* cosine_;
   BspFrame* stack_ = nullptr;
   size_t stack_cap_ = 0;
   TexturePager pager_;
@@ -609,9 +586,9 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
   if (uses_cosine(options_)) {
     FilterSum* sums = arena.allocate_array<FilterSum>(CosineFilter::sums_count(camera_.width, out_.band_rows()));
     if (!sums) return finish(error(StatusCode::ArenaTooSmall, "arena too small", need), arena);
-    cosine_.init(sums, camera_.width, camera_.height, out_.band_rows(), &out_, st_);
+    cosine_->init(sums, camera_.width, camera_.height, band_.factor, out_.band_rows(), &out_, st_);
     writer.oversample(band_.factor, nullptr, camera_.width);
-    writer.use_filter(&cosine_);
+    writer.use_filter(cosine_);
   } else if (band_.factor > 1) {
     PixelSum* sums = arena.allocate_array<PixelSum>(size_t(camera_.width) * size_t(out_.band_rows()));
     if (!sums) return finish(error(StatusCode::ArenaTooSmall, "arena too small", need), arena);
@@ -640,7 +617,7 @@ Status TilerFrame::render_band(int band, Arena& arena) {
   st_->pyramid_bytes = max_of(st_->pyramid_bytes, layout.bytes());
   tiler_.init(&pyramid_, kSubpixelOne / band_.factor, options_.work, band_.top);
   writer_->begin_band(band_.top, band_.rows);
-  if (uses_cosine(options_)) cosine_.begin_band(band_.top, out_.band_height(band));
+  if (uses_cosine(options_)) cosine_->begin_band(band_.top, out_.band_height(band));
   s = walk_bsp();
   if (!s.ok()) return s;
   writer_->begin_background(options_.shading == ShadingMode::Ids ? 0 : options_.background);
@@ -783,7 +760,7 @@ size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderO
 }
 
 Status tiler_render(const Scene& scene, const Camera& camera, const RenderOptions& options,
-                    Arena& arena, Sink& sink, Stats* stats) {
+                    Arena& arena, Sink& sink, Stats* stats, SampleFilter* cosine) {
   Stats local;
   Stats* st = stats ? stats : &local;
   st->width = uint32_t(camera.width);
@@ -792,6 +769,8 @@ Status tiler_render(const Scene& scene, const Camera& camera, const RenderOption
   st->triangles_in = scene.triangle_count;
   Status status = check_options(camera, options);
   if (!status.ok()) return status;
+  if (uses_cosine(options) && !cosine)
+    return error(StatusCode::Unsupported, "this tiler entry has no cosine filter (render_tiler_box); use render_tiler");
   View view;
   status = make_view(camera, &view);
   if (!status.ok()) return status;
@@ -802,7 +781,7 @@ Status tiler_render(const Scene& scene, const Camera& camera, const RenderOption
   const size_t need = tiler_arena_bytes(scene, camera, options);
   if (arena.size() - arena.used() < need)
     return error(StatusCode::ArenaTooSmall, "arena too small for the tiler", need);
-  TilerFrame frame(scene, camera, options, view, st);
+  TilerFrame frame(scene, camera, options, view, st, cosine);
   return frame.run(arena, sink);
 }
 

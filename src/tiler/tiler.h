@@ -13,8 +13,12 @@
 
 namespace ml {
 
+class SampleFilter;  // tiler/filter.h
+
 size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
+// cosine: the cosine-hump filter to use when options.filter asks for it (a CosineFilter); null leaves
+// it out of the image (such a render is Unsupported).
 Status tiler_render(const Scene& scene, const Camera& camera, const RenderOptions& options,
-                    Arena& arena, Sink& sink, Stats* stats);
+                    Arena& arena, Sink& sink, Stats* stats, SampleFilter* cosine);
 
 }  // namespace ml
