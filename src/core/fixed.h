@@ -173,22 +173,9 @@ inline int64_t div_floor(int64_t n, int64_t d) {
 // Reciprocal 2^bits / d rounded, for d > 0, bits <= 62.
 inline int64_t reciprocal(int64_t d, int bits) { return div_round(int64_t(1) << bits, d); }
 
-// floor(sqrt(v)) for any uint64, bit by bit: no division, no float.
-inline uint64_t isqrt64(uint64_t v) {
-  uint64_t result = 0;
-  uint64_t bit = uint64_t(1) << 62;
-  while (bit > v) bit >>= 2;
-  while (bit != 0) {
-    if (v >= result + bit) {
-      v -= result + bit;
-      result = (result >> 1) + bit;
-    } else {
-      result >>= 1;
-    }
-    bit >>= 2;
-  }
-  return result;
-}
+// floor(sqrt(v)) for any uint64, exact, no float: a 32-bit root of v's top bits, one Newton step
+// and a correction (fixed.cpp).
+uint64_t isqrt64(uint64_t v);
 
 // Number of significant bits of v (0 for v == 0).
 inline int bit_length(uint64_t v) { return v ? 64 - __builtin_clzll(v) : 0; }

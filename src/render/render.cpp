@@ -7,6 +7,10 @@ size_t render_arena_bytes(const Scene& scene, const Camera& camera, const Render
                                                  : render_scanline_arena_bytes(scene, camera, options);
 }
 
+size_t render_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
+  return options.renderer == RendererKind::Tiler ? render_tiler_spare_bytes(scene, camera, options) : 0;
+}
+
 Status render(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
               Sink& sink, Stats* stats) {
   return options.renderer == RendererKind::Tiler ? render_tiler(scene, camera, options, arena, sink, stats)

@@ -19,12 +19,17 @@ namespace ml {
 // Arena bytes a render needs (the render fails with ArenaTooSmall naming this number if given less).
 size_t render_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
 
+// Arena bytes beyond render_arena_bytes that make a frame faster when the arena has them free (the
+// tiler's band plan, tiler_plan_bytes, for frames of several bands; 0 otherwise). Same image either way.
+size_t render_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
+
 Status render(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
               Sink& sink, Stats* stats);
 
 // render_arena_bytes and render with options.renderer taken as the tiler (render/render_tiler.cpp) or
 // the scanline renderer (render/render_scanline.cpp), whatever it says.
 size_t render_tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
+size_t render_tiler_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
 Status render_tiler(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
                     Sink& sink, Stats* stats);
 // The tiler without its cosine-hump filter (options.filter = cosine is Unsupported): an image that

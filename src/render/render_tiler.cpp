@@ -1,5 +1,6 @@
 // The tiler's entries alone: an image that calls only these links no scanline code, and one that
 // calls only render_tiler_box links no cosine-hump filter.
+#include "core/band.h"
 #include "render/entry.h"
 #include "tiler/filter.h"
 #include "tiler/tiler.h"
@@ -23,6 +24,11 @@ Status tiler_box_only(const Scene& scene, const Camera& camera, const RenderOpti
 
 size_t render_tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
   return tiler_arena_bytes(scene, camera, effective_options(options));
+}
+
+size_t render_tiler_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
+  const bool bands = band_rows_for(effective_options(options).output, camera.height) < camera.height;
+  return bands ? tiler_plan_bytes(scene) : 0;
 }
 
 Status render_tiler(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,

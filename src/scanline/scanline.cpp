@@ -461,6 +461,11 @@ struct Renderer {
   BandOutput out;
   Rng rng{1};
   uint32_t p_threshold = 0;  // shade stochastically when rng < threshold: P = 1 / (l + 1)
+  // Whether a surface's colour can vary over it (Gouraud). In Flat and Unlit modes a surface is one
+  // triangle of one colour (textured ones are shaded at every sample anyway), so keepObj's reuse is
+  // exact and §3.4.2's stochastic and forced re-shading could only give the same colour again: they
+  // are skipped, and a run of one such surface is emitted in bulk (single_run_constant).
+  bool varying = false;
 
   YSortEntry* ys = nullptr;
   uint32_t n = 0, ys_next = 0;
@@ -587,17 +592,38 @@ struct Renderer {
   // §5: the texel at sample (x, y) modulates the shaded colour (the colour alone when the pager
   // falls back). Texture coordinates come from the whole triangle, as in the tiler.
   Pixel texture(uint32_t slot, uint32_t id, int32_t x, int32_t y, Pixel c) {
-    uint32_t& t = tex_of[slot];
-    if (!(t & kTexReady)) {
-      triangle_texture_planes(*scene, s.view, id, s.lat.den, s.lat.ox, s.lat.oy, &tex_planes[slot]);
-      t |= kTexReady;
-    }
-    const uint32_t texture = t & ~kTexReady;
+    const uint32_t texture = tex_of[slot] & ~kTexReady;
     const uint8_t* bytes = pager.get(texture);
     if (!bytes) return c;
     int32_t uv[2];
-    texture_uv(tex_planes[slot], x, y, uv);
-    return modulate_texel(sample_texture(scene->texture_texels[texture], bytes, uv), c);
+    texture_uv(planes_of(slot, id), x, y, uv);
+    return sample_texture(scene->texture_texels[texture], bytes, uv, c);
+  }
+  TexturePlanes& planes_of(uint32_t slot, uint32_t id) {
+    uint32_t& t = tex_of[slot];
+    if (!(t & kTexReady)) {
+      triangle_texture_planes(*scene, s.view, id, t, s.lat.den, s.lat.ox, s.lat.oy, &tex_planes[slot]);
+      t |= kTexReady;
+    }
+    return tex_planes[slot];
+  }
+  // Samples [x0, x1] of row y of textured piece `a` in a flat colour, into out: one texture_row (the
+  // same colours as shade() sample by sample). False when the piece is smooth (left to shade()).
+  bool texture_run(ActiveTri& a, int32_t x0, int32_t x1, int32_t y, Pixel* out) {
+    ensure_colors(a);
+    if (a.flags & kSmooth) return false;
+    const uint32_t slot = slot_of(a), texture = tex_of[slot] & ~kTexReady, n = uint32_t(x1 - x0 + 1);
+    stats->shading_calls += n;
+    const uint8_t* bytes = pager.get(texture);
+    if (!bytes) {
+      for (uint32_t i = 0; i < n; ++i) out[i] = a.color[0];
+      return true;
+    }
+    Pixel lut_colour;
+    const Pixel* lut = pager.texel_lut(texture, a.color[0], bytes, n, &lut_colour);
+    texture_row(planes_of(slot, a.id), scene->texture_texels[texture], bytes, lut, lut_colour, a.color[0], x0, y,
+                int32_t(n), out);
+    return true;
   }
   bool textured(uint32_t slot) const { return tex_of && tex_of[slot] != kNone; }
   uint32_t slot_of(const ActiveTri& a) const { return uint32_t(&a - act); }
@@ -638,15 +664,27 @@ struct Renderer {
       default: keep_surface[px] = finish(acc[px] + sum); break;
     }
   }
-  // commit(px, sum) for px in [px0, px1), the row kind decided once.
-  void commit_same(int32_t px0, int32_t px1, uint64_t sum) {
+  // commit(px, sum) for px in [px0, px1), the row kind decided once; sum is q + 1 samples of colour c.
+  // A pixel whose l^2 samples all have colour c (background, a surface's inside: most pixels) is c
+  // exactly, without the mean's divisions.
+  void commit_same(int32_t px0, int32_t px1, uint64_t sum, Pixel c) {
+    const uint64_t all_c = pack(c) * uint64_t(s.lat.l * s.lat.l);
     switch (row_kind) {
       case 0: for (int32_t px = px0; px < px1; ++px) acc[px] += sum; break;
       case 1: for (int32_t px = px0; px < px1; ++px) acc[px] = sum; break;
       case 2:
-        for (int32_t px = px0; px < px1; ++px) { keep_surface[px] = finish(acc[px] + sum); acc[px] = sum; }
+        for (int32_t px = px0; px < px1; ++px) {
+          const uint64_t total = acc[px] + sum;
+          keep_surface[px] = total == all_c ? c : finish(total);
+          acc[px] = sum;
+        }
         break;
-      default: for (int32_t px = px0; px < px1; ++px) keep_surface[px] = finish(acc[px] + sum); break;
+      default:
+        for (int32_t px = px0; px < px1; ++px) {
+          const uint64_t total = acc[px] + sum;
+          keep_surface[px] = total == all_c ? c : finish(total);
+        }
+        break;
     }
   }
   // Samples [x0, x1] of the current row all have colour c (x0 is the next sample in order).
@@ -667,7 +705,7 @@ struct Renderer {
       // Pixels the run covers whole get the same sum: committed in one loop.
       const int32_t whole = min_of((x1 - x0 + 1) / q, s.width - cur_px);
       if (whole > 0) {
-        commit_same(cur_px, cur_px + whole, pc * uint64_t(q + 1));
+        commit_same(cur_px, cur_px + whole, pc * uint64_t(q + 1), c);
         cur_px += whole - 1;
         cur_right += (whole - 1) * q;
         x0 = cur_right + 1;
@@ -720,6 +758,13 @@ struct Renderer {
   Pixel keep_or_shade(ActiveTri& front, int32_t x, int32_t y, uint32_t key) {
     const int32_t c = pixel_of(x);
     const uint32_t kr = keep_rgb[c];
+    if (!varying) {  // one colour a surface: kept is exact
+      if (keep_surface[c] == key && !textured(slot_of(front))) return kr & 0xFFFFFF;
+      const Pixel col = shade(front, x, y);
+      keep_rgb[c] = col | kValid | (kr & kForce);
+      keep_surface[c] = key;
+      return col;
+    }
     // Adaptive-stochastic shading (§3.4.2): the generator is drawn only for a kept, unforced surface.
     // Textured surfaces are shaded at every sample: the l x l samples filter the texels (§5).
     if (keep_surface[c] == key && !(kr & kForce) && !textured(slot_of(front)) && rng.next() >= p_threshold)
@@ -757,10 +802,31 @@ struct Renderer {
       return;
     }
     if (!s.accumulate) {
+      if (textured(slot_of(a)) && texture_run(a, x0, x1, y, keep_surface + x0)) return;
       for (int32_t x = x0; x <= x1; ++x) keep_surface[x] = shade(a, x, y);
       return;
     }
-    single_run_supersampled(a, x0, x1, y);
+    if (!varying && !textured(slot_of(a))) single_run_constant(a, x0, x1);
+    else single_run_supersampled(a, x0, x1, y);
+  }
+
+  // single_run at l > 1 for a surface of one colour: keepObj's shading call in each pixel column the
+  // surface enters (the column of sample x is x / q, the last one for the frame's right border), then
+  // the samples emitted in bulk. The same colours and calls as sample by sample: a column's key is
+  // checked before any of its samples, and a commit only overwrites columns the run has left.
+  void single_run_constant(ActiveTri& a, int32_t x0, int32_t x1) {
+    const uint32_t key = surface_key(a);
+    ensure_colors(a);
+    const Pixel col = a.color[0];
+    const int32_t q = s.lat.q, last = s.width - 1;
+    const int32_t c1 = min_of(x1 / q, last);
+    for (int32_t c = min_of(x0 / q, last); c <= c1; ++c) {
+      if (keep_surface[c] == key) continue;
+      ++stats->shading_calls;  // shade(): the colour is col
+      keep_rgb[c] = col | kValid | (keep_rgb[c] & kForce);
+      keep_surface[c] = key;
+    }
+    emit_run(x0, x1, col);
   }
 
   // single_run at l > 1: keep_or_shade and emit_sample for each sample, with the pixel cursor, the
@@ -1003,7 +1069,11 @@ struct Renderer {
         st = emit_row(py, out_row);
         if (!st.ok()) return st;
         if (s.colour) {
-          for (int32_t x = 0; x < s.width; ++x) { keep_surface[x] = 0; keep_rgb[x] &= ~kForce; }
+          if (varying) {
+            for (int32_t x = 0; x < s.width; ++x) { keep_surface[x] = 0; keep_rgb[x] &= ~kForce; }
+          } else {  // kForce is never read when surfaces have one colour
+            for (int32_t x = 0; x < s.width; ++x) keep_surface[x] = 0;
+          }
         }
       }
     }
@@ -1056,6 +1126,7 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
   r.light = make_light(s.view);
   r.rng = Rng(options.seed);
   r.p_threshold = s.lat.l > 1 ? uint32_t(0xFFFFFFFFu / uint32_t(s.lat.l + 1)) : 0;  // (l-1)/(l^2-1)
+  r.varying = options.shading == ShadingMode::Gouraud;
   r.bg = options.shading == ShadingMode::Ids ? 0 : (options.background & 0xFFFFFF);
 
   const size_t start = arena.used();

@@ -5,11 +5,86 @@ namespace {
 
 constexpr int kCrossBits = 28;   // the P_j x P_k keep this many bits (a common scale)
 constexpr int kWeightKeep = 28;  // e_i keep this many bits per sample before the division
+constexpr int kMantissaBits = 16;  // the error bound compares products of 16-bit mantissas
+
+int log2_of(uint32_t v) { return bit_length(v) - 1; }
+
+// v as m 2^e with m < 2^16 + 1 (e added to *e): m rounded up (an upper bound of v) or down.
+uint64_t mantissa(uint64_t v, int* e, bool up) {
+  const int s = max_of(0, bit_length(v) - kMantissaBits);
+  *e += s;
+  const uint64_t m = v >> s;
+  return up && (m << s) != v ? m + 1 : m;
+}
+
+// l 2^el <= r 2^er, for l, r < 2^62.
+bool scaled_le(uint64_t l, int el, uint64_t r, int er) {
+  if (el >= er) {
+    const int d = el - er;
+    return d < 62 ? l <= (r >> d) : l == 0;
+  }
+  const int d = er - el;
+  if (d >= 62) return l == 0 || r != 0;
+  return ((l + ((uint64_t(1) << d) - 1)) >> d) <= r;  // ceil(l / 2^d) <= r
+}
+
+// The length bits of the segment from exact ends s to e (kTextureSegmentBits down to 0): the longest
+// whose affine error bound (mapping.h) stays within 2^-error_bits texel on both axes.
+int segment_bits(const TexturePlanes& p, const ExactUv& s, const ExactUv& e) {
+  if (!s.clean || !e.clean || (s.denom < 0) != (e.denom < 0)) return 0;
+  uint64_t du = 0;  // the larger change, in Q16 texels (< 2^42)
+  for (int k = 0; k < 2; ++k)
+    du = max_of(du, magnitude(int64_t(e.uv[k]) - s.uv[k]) << p.size_bits[k]);
+  const uint64_t d0 = magnitude(s.denom), d1 = magnitude(e.denom);
+  const uint64_t dd = d0 > d1 ? d0 - d1 : d1 - d0;
+  // Within 2^-error_bits texel: du dd max(D) (len / L)^2 <= 4 min(D)^2 2^(16 - error_bits); or within
+  // 2^-kTextureAffineShiftBits of the mean step du / L: dd max(D) (len / L)^2 <= min(D)^2 2^(2 - E - S),
+  // in mantissas and exponents (L = 2^S samples in a segment).
+  int ed = 0, em = 0;
+  const uint64_t dm = mantissa(dd, &ed, true) * mantissa(max_of(d0, d1), &ed, true);
+  int el = ed;
+  const uint64_t l = mantissa(du, &el, true) * dm;
+  const uint64_t m = mantissa(min_of(d0, d1), &em, false);
+  const int er = 2 * em + 2 + 16 - p.error_bits;
+  const int es = 2 * em + 2 - kTextureAffineShiftBits - kTextureSegmentBits;
+  for (int bits = kTextureSegmentBits; bits > 0; --bits) {
+    const int scale = 2 * (bits - kTextureSegmentBits);
+    if (scaled_le(l, el + scale, m * m, er) || scaled_le(dm, ed + scale, m * m, es)) return bits;
+  }
+  return 0;
+}
+
+// The segment of row y starting at sample x, from the cache or decided now.
+const TextureSegment& segment_at(TexturePlanes& p, int32_t x, int32_t y) {
+  TextureSegment& sg = p.rows ? p.rows[uint32_t(y) & p.row_mask] : p.one;
+  if (sg.y == y && sg.x == x) return sg;
+  // Stepping right along a row, the previous segment's end is this one's start.
+  if (sg.y == y && sg.x + kTextureSegment == x) sg.ends[0] = sg.ends[1];
+  else exact_texture_uv(p, x, y, &sg.ends[0]);
+  exact_texture_uv(p, x + kTextureSegment, y, &sg.ends[1]);
+  sg.x = x;
+  sg.y = y;
+  sg.bits = segment_bits(p, sg.ends[0], sg.ends[1]);
+  return sg;
+}
+
+// The exact coordinates at sample (x, y) inside segment sg: its ends, the last one evaluated, or now.
+ExactUv exact_in(TexturePlanes& p, const TextureSegment& sg, int32_t x, int32_t y) {
+  if (x == sg.x) return sg.ends[0];
+  if (x == sg.x + kTextureSegment) return sg.ends[1];
+  if (x != p.last_x || y != p.last_y) {
+    exact_texture_uv(p, x, y, &p.last);
+    p.last_x = x;
+    p.last_y = y;
+  }
+  return p.last;
+}
 
 }  // namespace
 
 void make_texture_planes(const View& view, const Vec3i world[3], const int32_t uv[3][2], int32_t den,
-                         int32_t ox, int32_t oy, TexturePlanes* out) {
+                         int32_t ox, int32_t oy, uint32_t width, uint32_t height, int error_bits,
+                         TexturePlanes* out) {
   int64_t p[3][3];
   for (int i = 0; i < 3; ++i) {
     // |world - eye| < 2^25, so view coordinates stay below 2^29 and each cross term below 2^58.
@@ -40,21 +115,32 @@ void make_texture_planes(const View& view, const Vec3i world[3], const int32_t u
     out->b[i] = y * kSubpixelOne;
     out->k[i] = x * (ox - cx) + y * (oy - cy) + z * fz;
   }
-  out->ey = -1;  // no sample evaluated yet (samples have y >= 0)
-  out->ex = 0;
+  out->size_bits[0] = log2_of(max_of(width, 1u));
+  out->size_bits[1] = log2_of(max_of(height, 1u));
+  out->error_bits = error_bits;
+  // Nothing cached yet (samples have y >= 0).
+  out->rows = nullptr;
+  out->row_mask = 0;
+  out->one.y = -1;
+  out->last_y = -1;
+  out->piece.y = -1;
 }
 
-void texture_uv(TexturePlanes& p, int32_t x, int32_t y, int32_t uv[2]) {
-  const bool step = y == p.ey && x == p.ex + 1;
+void use_segment_rows(TexturePlanes* p, TextureSegment* rows, int count_bits) {
+  p->rows = rows;
+  p->row_mask = (uint32_t(1) << count_bits) - 1;
+  for (uint32_t i = 0; i <= p->row_mask; ++i) rows[i].y = -1;
+}
+
+void exact_texture_uv(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out) {
   int64_t e[3];
   uint64_t largest = 0;
+  out->denom = 0;
   for (int i = 0; i < 3; ++i) {
-    p.e[i] = step ? p.e[i] + p.a[i] : p.a[i] * x + p.b[i] * y + p.k[i];
-    e[i] = p.e[i];
+    e[i] = p.a[i] * x + p.b[i] * y + p.k[i];
+    out->denom += e[i];  // |e_i| < 2^61: the sum fits
     largest |= magnitude(e[i]);
   }
-  p.ex = x;
-  p.ey = y;
   const int shift = max_of(0, bit_length(largest) - kWeightKeep);
   int64_t total = 0;
   for (int i = 0; i < 3; ++i) {
@@ -66,15 +152,47 @@ void texture_uv(TexturePlanes& p, int32_t x, int32_t y, int32_t uv[2]) {
     for (int i = 0; i < 3; ++i) e[i] = -e[i];
   }
   if (total == 0) {  // the ray grazes the triangle's plane: any vertex will do
-    uv[0] = p.uv[0][0];
-    uv[1] = p.uv[0][1];
+    out->uv[0] = p.uv[0][0];
+    out->uv[1] = p.uv[0][1];
+    out->clean = false;
     return;
   }
+  out->clean = out->denom != 0;
   for (int k = 0; k < 2; ++k) {
     // |uv| < 2^31 and |e| < 2^28: the sum stays below 2^61; total < 2^30 divides in 32 bits.
     const int64_t sum = p.uv[0][k] * e[0] + p.uv[1][k] * e[1] + p.uv[2][k] * e[2];
-    uv[k] = int32_t(clamp_to<int64_t>(div_floor(sum, total), INT32_MIN, INT32_MAX));
+    const int64_t q = div_floor(sum, total);
+    if (q < INT32_MIN || q > INT32_MAX) out->clean = false;
+    out->uv[k] = int32_t(clamp_to<int64_t>(q, INT32_MIN, INT32_MAX));
   }
+}
+
+const TexturePiece& texture_piece(TexturePlanes& p, int32_t x, int32_t y) {
+  TexturePiece& piece = p.piece;
+  if (y == piece.y && x >= piece.x && x - piece.x < (int32_t(1) << piece.bits)) return piece;
+  const TextureSegment& sg = segment_at(p, x & ~(kTextureSegment - 1), y);
+  const int32_t bits = sg.bits;
+  piece.y = y;
+  piece.bits = bits;
+  if (bits == kTextureSegmentBits) {  // the common case: the whole segment is one piece
+    piece.x = sg.x;
+    for (int k = 0; k < 2; ++k) {
+      piece.uv[k] = sg.ends[0].uv[k];
+      piece.step[k] = int64_t(sg.ends[1].uv[k]) - sg.ends[0].uv[k];
+    }
+    return piece;
+  }
+  const int32_t start = x & ~((int32_t(1) << bits) - 1);
+  const ExactUv s = exact_in(p, sg, start, y);
+  piece.x = start;
+  piece.uv[0] = s.uv[0];
+  piece.uv[1] = s.uv[1];
+  piece.step[0] = piece.step[1] = 0;
+  if (bits > 0) {
+    const ExactUv e = exact_in(p, sg, start + (int32_t(1) << bits), y);
+    for (int k = 0; k < 2; ++k) piece.step[k] = int64_t(e.uv[k]) - s.uv[k];
+  }
+  return piece;
 }
 
 uint32_t triangle_texture(const Scene& scene, uint32_t id) {
@@ -82,14 +200,17 @@ uint32_t triangle_texture(const Scene& scene, uint32_t id) {
   return material_texels(scene, m) ? m.texture : kNone;
 }
 
-void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, int32_t den, int32_t ox,
-                             int32_t oy, TexturePlanes* out) {
+void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, uint32_t texture, int32_t den,
+                             int32_t ox, int32_t oy, TexturePlanes* out) {
   Vec3i world[3];
   triangle_world(scene, id, world);
   const Triangle tri = triangle_at(scene, id);
   int32_t uv[3][2];
   for (int i = 0; i < 3; ++i) vertex_uv(scene, tri.v[i], uv[i]);
-  make_texture_planes(view, world, uv, den, ox, oy, out);
+  const TextureTexels& t = scene.texture_texels[texture];
+  const int error_bits = t.filter == uint8_t(TextureFilter::Bilinear) ? kTextureAffineErrorBitsBilinear
+                                                                      : kTextureAffineErrorBitsNearest;
+  make_texture_planes(view, world, uv, den, ox, oy, t.width, t.height, error_bits, out);
 }
 
 }  // namespace ml

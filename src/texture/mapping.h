@@ -8,6 +8,25 @@
 // int64 — the integer form of stepping u/w, v/w and 1/w. The planes come from the whole original
 // triangle (never a clipped or BSP-split piece), so every piece of it, in either renderer, maps
 // identically; triangles crossing the near plane need no special case.
+//
+// The division is not made at every sample. A row is cut into segments of kTextureSegment samples
+// at fixed lattice columns (multiples of the length, whatever span a renderer draws, so both
+// renderers interpolate between the same ends); the exact coordinates at a segment's two ends are
+// divided out and the samples between interpolate them linearly (affine), unless the error bound
+// says the segment is too curved: then it is cut in halves, quarters, ... down to single samples
+// (every sample exact). The bound: along a segment u = N(t) / D(t) with N and D linear (D = the sum
+// of the e_i), and interpolating between the ends errs by at most |du| |dD| / (4 min |D|); a part of
+// 1/k of the segment errs by at most |du| |dD| max|D| / (4 k^2 min|D|^2) (du, dD: the changes over
+// the whole segment). The longest part is kept whose bound, along both axes, is within
+//   - 2^-kTextureAffineErrorBitsNearest texel (nearest) or 2^-kTextureAffineErrorBitsBilinear texel
+//     (bilinear: a colour step between neighbouring texels moves by 2 levels at most), or
+//   - 2^-kTextureAffineShiftBits of the segment's mean texel step per sample (the sample takes the
+//     coordinates of a point at most 1/8 sample away along the row: minified textures, whose texels
+//     are smaller than a sample, need no finer precision than that).
+// Segments whose ends have D of different signs or zero, or saturated coordinates, are cut down to
+// single samples. tests/texture/mapping_test.cpp checks the bound against the exact division and
+// tests/oracle/texture_vs_oracle_test.cpp the images against the double-precision texturer.
+
 #pragma once
 #include <stdint.h>
 
@@ -17,29 +36,81 @@
 
 namespace ml {
 
+// Samples a segment spans (a power of two) and the affine error bounds above.
+constexpr int kTextureSegmentBits = 5;
+constexpr int32_t kTextureSegment = 1 << kTextureSegmentBits;
+constexpr int kTextureAffineErrorBitsNearest = 5;
+constexpr int kTextureAffineErrorBitsBilinear = 7;
+constexpr int kTextureAffineShiftBits = 3;
+
+// Exact texture coordinates at one sample, and what deciding a segment needs about them.
+struct ExactUv {
+  int32_t uv[2];   // Q16.16, floored
+  int64_t denom;   // sum of e_i, unshifted (its sign is the side of the plane the ray meets)
+  bool clean;      // denom != 0 and neither coordinate saturated: the ends of an affine piece
+};
+
+// A segment: samples [x, x + kTextureSegment) of row y, cut in affine pieces of 2^bits samples.
+struct TextureSegment {
+  int32_t x, y, bits;  // y = -1: none
+  ExactUv ends[2];     // exact at x and x + kTextureSegment
+};
+
+// An affine piece of a row: samples [x, x + 2^bits), uv(x + j) = uv + floor(step j / 2^bits).
+struct TexturePiece {
+  int32_t x, y, bits;
+  int32_t uv[2];
+  int64_t step[2];  // uv at x + 2^bits minus uv at x (0 when bits == 0: one exact sample)
+};
+
 struct TexturePlanes {
   int64_t a[3], b[3], k[3];   // e_i(X, Y) = a_i X + b_i Y + k_i, |e_i| < 2^61 on the lattice
   int32_t uv[3][2];           // the triangle's TEXCOORD_0, Q16.16
-  // e_i at the last sample evaluated, (ex, ey): the sample to its right steps by a_i. Integer steps
-  // are exact, so stepping gives the values evaluating gives, whatever order samples come in.
-  int64_t e[3];
-  int32_t ex, ey;
+  int32_t size_bits[2];       // log2 of the texture's width and height: the error bound is in its texels
+  int32_t error_bits;         // the affine error bound allowed: 2^-error_bits texel
+  // Caches, so that drawing costs about one exact division a segment: the segments decided (one,
+  // or one per row of a few rows for a renderer that draws blocks, use_segment_rows), the end of
+  // the last short piece, the piece last used.
+  TextureSegment* rows;       // null: `one`
+  uint32_t row_mask;
+  TextureSegment one;
+  int32_t last_x, last_y;
+  ExactUv last;
+  TexturePiece piece;
 };
 
 // Sample (X, Y) of the lattice lies at subpixel ((256 X + ox) / den, (256 Y + oy) / den): den = 1,
-// ox = oy = 128 are pixel centres (the tiler and the 1x1 scanline renderer).
+// ox = oy = 128 are pixel centres (the tiler and the 1x1 scanline renderer). width and height: of
+// the texture the coordinates will index (powers of two), error_bits: its filter's affine error bits.
 void make_texture_planes(const View& view, const Vec3i world[3], const int32_t uv[3][2], int32_t den,
-                         int32_t ox, int32_t oy, TexturePlanes* out);
+                         int32_t ox, int32_t oy, uint32_t width, uint32_t height, int error_bits,
+                         TexturePlanes* out);
 
-// Texture coordinates (Q16.16) at lattice sample (X, Y) >= 0: sum uv_i e_i / sum e_i, floored.
-void texture_uv(TexturePlanes& p, int32_t x, int32_t y, int32_t uv[2]);
+// Segments of 2^count_bits rows kept at once (rows: that many, set aside by the caller): a renderer
+// that draws a block row by row finds the segments again in the next block.
+void use_segment_rows(TexturePlanes* planes, TextureSegment* rows, int count_bits);
+
+// The exact coordinates at lattice sample (X, Y) >= 0: sum uv_i e_i / sum e_i, floored.
+void exact_texture_uv(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out);
+
+// The affine piece holding lattice sample (x, y) >= 0 (the segment rules above).
+const TexturePiece& texture_piece(TexturePlanes& p, int32_t x, int32_t y);
+
+// Texture coordinates (Q16.16) at lattice sample (X, Y) >= 0: exact at piece ends, affine between.
+inline void texture_uv(TexturePlanes& p, int32_t x, int32_t y, int32_t uv[2]) {
+  const TexturePiece& piece = texture_piece(p, x, y);
+  const int64_t j = x - piece.x;
+  uv[0] = int32_t(piece.uv[0] + ((piece.step[0] * j) >> piece.bits));
+  uv[1] = int32_t(piece.uv[1] + ((piece.step[1] * j) >> piece.bits));
+}
 
 // The texture (index into the scene's textures) triangle `id` is drawn with, or kNone when its
 // material has no texels. Only valid on a Scene from read_scene.
 uint32_t triangle_texture(const Scene& scene, uint32_t id);
 
-// make_texture_planes for triangle `id` of the scene (its world positions and TEXCOORD_0).
-void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, int32_t den, int32_t ox,
-                             int32_t oy, TexturePlanes* out);
+// make_texture_planes for triangle `id` of the scene (its world positions and TEXCOORD_0), drawn with
+// texture `texture`.
+void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, uint32_t texture, int32_t den,
+                             int32_t ox, int32_t oy, TexturePlanes* out);
 
 }  // namespace ml

@@ -1,5 +1,7 @@
 #include "texture/pager.h"
 
+#include "texture/sampler.h"
+
 namespace ml {
 namespace {
 
@@ -50,7 +52,7 @@ size_t TexturePager::arena_bytes(const Scene& scene, uint32_t pool_bytes) {
   if (needs.desired == 0) return 0;
   const size_t n = scene.texture_texels_count;
   return arena_worst_case(min_of(pool_bytes, needs.desired) & ~3u, 4) + arena_worst_case(n * sizeof(Slot), 4) +
-         2 * arena_worst_case(n * sizeof(uint32_t), 4);
+         2 * arena_worst_case(n * sizeof(uint32_t), 4) + arena_worst_case(kLutSlots * kTexelLutEntries * sizeof(Pixel), 4);
 }
 
 Status TexturePager::begin(const Scene& scene, TextureSource* source, uint32_t pool_bytes, Arena& arena,
@@ -68,7 +70,9 @@ Status TexturePager::begin(const Scene& scene, TextureSource* source, uint32_t p
   Slot* slots = arena.allocate_array<Slot>(count_);
   resident_ = arena.allocate_array<uint32_t>(count_);
   free_order_ = arena.allocate_array<uint32_t>(count_);
-  if ((pool_bytes_ && !pool_) || !slots || !resident_ || !free_order_)
+  luts_ = arena.allocate_array<Pixel>(kLutSlots * kTexelLutEntries);
+  for (LutKey& k : lut_keys_) k = LutKey{kNone, 0, 0};
+  if ((pool_bytes_ && !pool_) || !slots || !resident_ || !free_order_ || !luts_)
     return error(StatusCode::ArenaTooSmall, "arena too small for the texture pool");
   for (uint32_t i = 0; i < count_; ++i) {
     slots[i] = Slot{0, 0, kNone, 0, kAbsent, 0};
@@ -179,6 +183,34 @@ const uint8_t* TexturePager::load(uint32_t t) {
   stats_->texture_bytes_peak = max_of(stats_->texture_bytes_peak, resident_bytes_);
   stats_->textures_resident_peak = max_of(stats_->textures_resident_peak, resident_count_);
   return pool_ + offset;
+}
+
+const Pixel* TexturePager::texel_lut(uint32_t t, Pixel colour, const uint8_t* bytes, uint32_t samples,
+                                     Pixel* lut_colour) {
+  if (!slots_ || t >= count_) return nullptr;
+  const bool make = samples >= kLutMinSamples;
+  *lut_colour = colour;
+  if (const Pixel* lut = cached_lut(t, colour, bytes, make)) return lut;
+  if (scene_->texture_texels[t].filter == uint8_t(TextureFilter::Bilinear)) return nullptr;
+  *lut_colour = 0xFFFFFF;
+  return cached_lut(t, 0xFFFFFF, bytes, false);
+}
+
+const Pixel* TexturePager::cached_lut(uint32_t t, Pixel colour, const uint8_t* bytes, bool make) {
+  uint32_t oldest = 0;
+  for (uint32_t i = 0; i < kLutSlots; ++i) {
+    LutKey& k = lut_keys_[i];
+    if (k.texture == t && k.colour == colour) {
+      k.touch = ++lut_clock_;
+      return luts_ + i * kTexelLutEntries;
+    }
+    if (k.touch < lut_keys_[oldest].touch) oldest = i;
+  }
+  if (!make || !bytes) return nullptr;
+  Pixel* lut = luts_ + oldest * kTexelLutEntries;
+  make_texel_lut(scene_->texture_texels[t], bytes, colour, lut);
+  lut_keys_[oldest] = LutKey{t, colour, ++lut_clock_};
+  return lut;
 }
 
 }  // namespace ml

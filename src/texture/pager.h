@@ -12,6 +12,7 @@
 #include "core/arena.h"
 #include "core/stats.h"
 #include "core/status.h"
+#include "core/sink.h"
 #include "scene/scene.h"
 #include "texture/source.h"
 
@@ -57,6 +58,17 @@ class TexturePager {
   // Every row up to `row` is finished: frees the textures whose last row that was.
   void rows_done(uint32_t row);
 
+  // The texel table (texture/sampler.h make_texel_lut) texture_row takes for `samples` samples of
+  // texture t drawn in `colour`, and the colour it was made for (*lut_colour): the table of that
+  // colour, else (nearest filtering) the white one when cached, the product then made per sample.
+  // Tables come from a cache of kLutSlots in the arena; one is made from `bytes` (t's texels, from
+  // get()) over the least recently used only for kLutMinSamples samples or more, so small pieces do
+  // not pay for a table they would hardly use. Null: none (texels decoded one by one).
+  // Tables outlive evictions of their texture.
+  static constexpr uint32_t kLutSlots = 4;
+  static constexpr uint32_t kLutMinSamples = 32;
+  const Pixel* texel_lut(uint32_t t, Pixel colour, const uint8_t* bytes, uint32_t samples, Pixel* lut_colour);
+
  private:
   struct Slot {
     uint32_t offset;     // in the pool, while resident
@@ -73,6 +85,7 @@ class TexturePager {
   bool evict_one(uint32_t keep);
   void release(uint32_t t);
   void fallback(uint32_t t);
+  const Pixel* cached_lut(uint32_t t, Pixel colour, const uint8_t* bytes, bool make);
 
   const Scene* scene_ = nullptr;
   TextureSource* source_ = nullptr;
@@ -88,6 +101,14 @@ class TexturePager {
   uint32_t* free_order_ = nullptr;  // textures by last row
   uint32_t next_free_ = 0;
   uint32_t clock_ = 0;
+  struct LutKey {
+    uint32_t texture;  // kNone: empty
+    Pixel colour;
+    uint32_t touch;
+  };
+  Pixel* luts_ = nullptr;  // kLutSlots tables of kTexelLutEntries
+  LutKey lut_keys_[kLutSlots] = {};
+  uint32_t lut_clock_ = 0;
 };
 
 }  // namespace ml

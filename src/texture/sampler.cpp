@@ -14,20 +14,25 @@ inline int32_t wrap(int64_t i, uint32_t size, uint8_t mode) {
   return int32_t(i & (n - 1));
 }
 
+inline uint32_t expand5(uint32_t v) { return (v << 3) | (v >> 2); }
+inline uint32_t expand6(uint32_t v) { return (v << 2) | (v >> 4); }
+
 inline Pixel from_565(uint32_t c) {
-  const uint32_t r = (c >> 11) & 31, g = (c >> 5) & 63, b = c & 31;
-  return rgb((r << 3) | (r >> 2), (g << 2) | (g >> 4), (b << 3) | (b >> 2));
+  return rgb(expand5((c >> 11) & 31), expand6((c >> 5) & 63), expand5(c & 31));
 }
 
-// Inlined into both filters: a call per texel costs as much as the fetch.
+inline uint32_t load16(const uint8_t* p) { return p[0] | (uint32_t(p[1]) << 8); }
+
+// Texel (x, y) decoded from the bytes. Inlined into both filters: a call per texel costs as much as
+// the fetch.
 __attribute__((always_inline)) inline Pixel texel(const TextureTexels& t, const uint8_t* bytes, int32_t x, int32_t y) {
   const uint32_t i = uint32_t(y) * t.width + uint32_t(x);
   switch (TexelFormat(t.format)) {
-    case TexelFormat::Rgb565: return from_565(bytes[2 * i] | (uint32_t(bytes[2 * i + 1]) << 8));
+    case TexelFormat::Rgb565: return from_565(load16(bytes + 2 * i));
     case TexelFormat::Palette8: {
       uint32_t index = bytes[2u * t.palette_size + i];
       if (index >= t.palette_size) index = t.palette_size - 1u;
-      return from_565(bytes[2 * index] | (uint32_t(bytes[2 * index + 1]) << 8));
+      return from_565(load16(bytes + 2 * index));
     }
     case TexelFormat::Grey4: {
       const uint32_t row = (uint32_t(t.width) + 1) / 2;
@@ -39,6 +44,29 @@ __attribute__((always_inline)) inline Pixel texel(const TextureTexels& t, const 
   }
 }
 
+// Texels (x, y) of format F through a make_texel_lut table. A value of its own, so that the loops
+// keep the fields in registers (stores of the colours cannot change them).
+template <TexelFormat F>
+struct LutTexels {
+  const uint8_t* texels;  // the indices (Palette8), levels (Grey4) or colours (Rgb565)
+  const Pixel* lut;
+  uint32_t row_shift;     // log2 of the bytes (Grey4) or texels a row
+  LutTexels(const TextureTexels& t, const uint8_t* bytes, const Pixel* table, int width_bits)
+      : texels(bytes + (F == TexelFormat::Palette8 ? 2u * t.palette_size : 0u)),
+        lut(table),
+        row_shift(uint32_t(F == TexelFormat::Grey4 && width_bits > 0 ? width_bits - 1 : width_bits)) {}
+  __attribute__((always_inline)) Pixel operator()(int32_t x, int32_t y) const {
+    const uint32_t row = uint32_t(y) << row_shift;
+    if (F == TexelFormat::Palette8) return lut[texels[row + uint32_t(x)]];
+    if (F == TexelFormat::Grey4) {
+      const uint32_t byte = texels[row + uint32_t(x) / 2];
+      return lut[((x & 1) ? byte >> 4 : byte) & 15];
+    }
+    const uint32_t c = load16(texels + 2 * (row + uint32_t(x)));
+    return lut[c >> 11] | lut[32 + ((c >> 5) & 63)] | lut[96 + (c & 31)];
+  }
+};
+
 // (a (256 - f) + b f + 128) >> 8 per channel, f in 0..256. Red and blue share one multiply in two
 // 16-bit lanes (each lane's sum stays below 2^16), green takes another: the same values as channel
 // by channel.
@@ -49,23 +77,152 @@ inline Pixel lerp(Pixel a, Pixel b, uint32_t f) {
   return (rb & 0xFF00FF) | (gg & 0xFF00);
 }
 
+// Bilinear filtering at uv of the texels fetch(x, y) gives; Repeat: both axes repeat (wrapping is
+// a mask).
+template <bool Repeat, typename Fetch>
+__attribute__((always_inline)) inline Pixel bilinear(const TextureTexels& t, int32_t u, int32_t v, Fetch fetch) {
+  // Texel space: u * width in Q16 (|u| < 2^31, width <= 2^10: below 2^41). Texel centres sit at
+  // half-integers: shift by half a texel, then blend the 2x2 neighbours.
+  const int64_t bu = int64_t(u) * t.width - 32768, bv = int64_t(v) * t.height - 32768;
+  const int64_t x0 = bu >> 16, y0 = bv >> 16;
+  const uint32_t fx = uint32_t((bu >> 8) & 0xFF), fy = uint32_t((bv >> 8) & 0xFF);
+  int32_t xa, xb, ya, yb;
+  if (Repeat) {
+    const int32_t mu = int32_t(t.width) - 1, mv = int32_t(t.height) - 1;
+    xa = int32_t(x0) & mu;
+    xb = (xa + 1) & mu;
+    ya = int32_t(y0) & mv;
+    yb = (ya + 1) & mv;
+  } else {
+    xa = wrap(x0, t.width, t.wrap_s);
+    xb = wrap(x0 + 1, t.width, t.wrap_s);
+    ya = wrap(y0, t.height, t.wrap_t);
+    yb = wrap(y0 + 1, t.height, t.wrap_t);
+  }
+  const Pixel top = lerp(fetch(xa, ya), fetch(xb, ya), fx);
+  const Pixel bottom = lerp(fetch(xa, yb), fetch(xb, yb), fx);
+  return lerp(top, bottom, fy);
+}
+
+// The textured colour at uv decoding texels one by one: nearest, the texel x colour; bilinear, the
+// filter of the texels x colour (each neighbour modulated, as a modulated texel table gives them).
+Pixel textured_colour(const TextureTexels& t, const uint8_t* bytes, const int32_t uv[2], Pixel colour) {
+  if (t.filter != uint8_t(TextureFilter::Bilinear)) {
+    const int64_t su = int64_t(uv[0]) * t.width, sv = int64_t(uv[1]) * t.height;
+    return modulate_texel(texel(t, bytes, wrap(su >> 16, t.width, t.wrap_s), wrap(sv >> 16, t.height, t.wrap_t)),
+                          colour);
+  }
+  return bilinear<false>(t, uv[0], uv[1],
+                         [&](int32_t x, int32_t y) { return modulate_texel(texel(t, bytes, x, y), colour); });
+}
+
+// n samples of one affine piece, from sample j of it, through the table (texels modulated by the
+// colour, then by `after`; after is white for bilinear filtering). Nearest filtering takes the texel
+// index straight from the stepped coordinate: floor(floor(a / 2^bits) W / 2^16) is
+// a >> (bits + 16 - log2 W) for a power-of-two W.
+template <TexelFormat F, bool Bilinear, bool Repeat>
+void piece_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& texture, const uint8_t* bytes,
+               const Pixel* lut, Pixel after, int64_t j, int32_t n, Pixel* out) {
+  const TextureTexels t = texture;  // a local copy: its fields stay in registers
+  const LutTexels<F> fetch(t, bytes, lut, p.size_bits[0]);
+  const int bits = pc.bits;
+  int64_t au = int64_t(pc.uv[0]) * (int64_t(1) << bits) + pc.step[0] * j;
+  int64_t av = int64_t(pc.uv[1]) * (int64_t(1) << bits) + pc.step[1] * j;
+  const int64_t su = pc.step[0], sv = pc.step[1];
+  if (Bilinear) {
+    for (int32_t i = 0; i < n; ++i, au += su, av += sv)
+      out[i] = bilinear<Repeat>(t, int32_t(au >> bits), int32_t(av >> bits), fetch);
+    return;
+  }
+  const int shift_u = bits + 16 - p.size_bits[0], shift_v = bits + 16 - p.size_bits[1];
+  if (Repeat) {
+    const int32_t mask_u = int32_t(t.width) - 1, mask_v = int32_t(t.height) - 1;
+    if (after == 0xFFFFFF) {
+      for (int32_t i = 0; i < n; ++i, au += su, av += sv)
+        out[i] = fetch(int32_t(au >> shift_u) & mask_u, int32_t(av >> shift_v) & mask_v);
+      return;
+    }
+    for (int32_t i = 0; i < n; ++i, au += su, av += sv)
+      out[i] = modulate_texel(fetch(int32_t(au >> shift_u) & mask_u, int32_t(av >> shift_v) & mask_v), after);
+    return;
+  }
+  for (int32_t i = 0; i < n; ++i, au += su, av += sv) {
+    const int32_t x = wrap(au >> shift_u, t.width, t.wrap_s), y = wrap(av >> shift_v, t.height, t.wrap_t);
+    out[i] = modulate_texel(fetch(x, y), after);
+  }
+}
+
+template <TexelFormat F>
+void piece_run_of(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes,
+                  const Pixel* lut, Pixel after, int64_t j, int32_t n, Pixel* out) {
+  const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
+  if (t.filter == uint8_t(TextureFilter::Bilinear)) {
+    if (repeat) piece_run<F, true, true>(pc, p, t, bytes, lut, after, j, n, out);
+    else piece_run<F, true, false>(pc, p, t, bytes, lut, after, j, n, out);
+  } else {
+    if (repeat) piece_run<F, false, true>(pc, p, t, bytes, lut, after, j, n, out);
+    else piece_run<F, false, false>(pc, p, t, bytes, lut, after, j, n, out);
+  }
+}
+
 }  // namespace
 
 Pixel sample_texture(const TextureTexels& t, const uint8_t* bytes, const int32_t uv[2]) {
-  // Texel space: u * width in Q16 (|u| < 2^31, width <= 2^10: below 2^41).
-  const int64_t su = int64_t(uv[0]) * t.width, sv = int64_t(uv[1]) * t.height;
-  if (t.filter != uint8_t(TextureFilter::Bilinear)) {
-    return texel(t, bytes, wrap(su >> 16, t.width, t.wrap_s), wrap(sv >> 16, t.height, t.wrap_t));
+  return textured_colour(t, bytes, uv, 0xFFFFFF);
+}
+
+Pixel sample_texture(const TextureTexels& t, const uint8_t* bytes, const int32_t uv[2], Pixel colour) {
+  return textured_colour(t, bytes, uv, colour);
+}
+
+void make_texel_lut(const TextureTexels& t, const uint8_t* bytes, Pixel colour, Pixel* lut) {
+  switch (TexelFormat(t.format)) {
+    case TexelFormat::Palette8:
+      for (uint32_t i = 0; i < kTexelLutEntries; ++i) {
+        const uint32_t index = i < t.palette_size ? i : t.palette_size - 1u;
+        lut[i] = modulate_texel(from_565(load16(bytes + 2 * index)), colour);
+      }
+      return;
+    case TexelFormat::Grey4:
+      for (uint32_t g = 0; g < 16; ++g) lut[g] = modulate_texel(rgb(g * 17, g * 17, g * 17), colour);
+      return;
+    case TexelFormat::Rgb565:
+      for (uint32_t v = 0; v < 32; ++v) {
+        lut[v] = modulate_texel(rgb(expand5(v), 0, 0), colour);
+        lut[96 + v] = modulate_texel(rgb(0, 0, expand5(v)), colour);
+      }
+      for (uint32_t v = 0; v < 64; ++v) lut[32 + v] = modulate_texel(rgb(0, expand6(v), 0), colour);
+      return;
+    default: return;
   }
-  // Texel centres sit at half-integers: shift by half a texel, then blend the 2x2 neighbours.
-  const int64_t bu = su - 32768, bv = sv - 32768;
-  const int64_t x0 = bu >> 16, y0 = bv >> 16;
-  const uint32_t fx = uint32_t((bu >> 8) & 0xFF), fy = uint32_t((bv >> 8) & 0xFF);
-  const int32_t xa = wrap(x0, t.width, t.wrap_s), xb = wrap(x0 + 1, t.width, t.wrap_s);
-  const int32_t ya = wrap(y0, t.height, t.wrap_t), yb = wrap(y0 + 1, t.height, t.wrap_t);
-  const Pixel top = lerp(texel(t, bytes, xa, ya), texel(t, bytes, xb, ya), fx);
-  const Pixel bottom = lerp(texel(t, bytes, xa, yb), texel(t, bytes, xb, yb), fx);
-  return lerp(top, bottom, fy);
+}
+
+void texture_row(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
+                 Pixel colour, int32_t x, int32_t y, int32_t n, Pixel* out) {
+  const bool bilinear = t.filter == uint8_t(TextureFilter::Bilinear);
+  if (!lut || (bilinear && lut_colour != colour)) {
+    for (int32_t i = 0; i < n; ++i) {
+      int32_t uv[2];
+      texture_uv(p, x + i, y, uv);
+      out[i] = textured_colour(t, bytes, uv, colour);
+    }
+    return;
+  }
+  const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;  // the product left per sample
+  while (n > 0) {
+    const TexturePiece& pc = texture_piece(p, x, y);
+    const int64_t j = x - pc.x;
+    const int32_t m = min_of(n, int32_t((int64_t(1) << pc.bits) - j));
+    switch (TexelFormat(t.format)) {
+      case TexelFormat::Palette8: piece_run_of<TexelFormat::Palette8>(pc, p, t, bytes, lut, after, j, m, out); break;
+      case TexelFormat::Grey4: piece_run_of<TexelFormat::Grey4>(pc, p, t, bytes, lut, after, j, m, out); break;
+      case TexelFormat::Rgb565: piece_run_of<TexelFormat::Rgb565>(pc, p, t, bytes, lut, after, j, m, out); break;
+      default: for (int32_t i = 0; i < m; ++i) out[i] = colour;
+    }
+    x += m;
+    n -= m;
+    out += m;
+  }
 }
 
 }  // namespace ml

@@ -5,6 +5,7 @@
 
 #include "core/sink.h"
 #include "scene/blob_format.h"
+#include "texture/mapping.h"
 
 namespace ml {
 
@@ -12,6 +13,11 @@ namespace ml {
 // texture's sampler. `bytes` are the texture's TextureTexels::bytes bytes (from the pager); any byte
 // values are safe (a palette index past the palette reads its last colour).
 Pixel sample_texture(const TextureTexels& texture, const uint8_t* bytes, const int32_t uv[2]);
+
+// The texture at uv drawn in `colour` (lighting, the base colour factor): nearest filtering gives
+// modulate_texel(texel, colour); bilinear filtering blends the four texels each modulated by colour
+// (so a table of modulated texels, below, gives the same colours).
+Pixel sample_texture(const TextureTexels& texture, const uint8_t* bytes, const int32_t uv[2], Pixel colour);
 
 // texel * colour / 255 per channel, rounded: lighting (or the base colour factor) modulates a texel.
 inline Pixel modulate_texel(Pixel texel, Pixel colour) {
@@ -23,5 +29,21 @@ inline Pixel modulate_texel(Pixel texel, Pixel colour) {
   }
   return out;
 }
+
+// A texel look-up table: a texture's colours decoded once (and modulated by one colour), so a
+// texel costs a load instead of a decode and a product. Palette8: the palette (indices past it read
+// its last colour); Grey4: the 16 levels; Rgb565: red (32 entries), green (64) and blue (32) parts in
+// their places, OR-ed together. Modulation is per channel, so a modulated table gives exactly
+// modulate_texel(texel, colour).
+constexpr uint32_t kTexelLutEntries = 256;
+void make_texel_lut(const TextureTexels& texture, const uint8_t* bytes, Pixel colour, Pixel* lut);
+
+// The textured colours of lattice samples x .. x + n - 1 of row y (texture coordinates from the
+// planes, the texture's filter and wraps) drawn in `colour`, into out: the same colours as
+// sample_texture(texture, bytes, texture_uv(...), colour) sample by sample. lut: a make_texel_lut
+// table of this texture for colour `lut_colour`, or null (texels decoded one by one); lut_colour is
+// either `colour` (no product per sample) or, for nearest filtering, white.
+void texture_row(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
+                 Pixel lut_colour, Pixel colour, int32_t x, int32_t y, int32_t n, Pixel* out);
 
 }  // namespace ml

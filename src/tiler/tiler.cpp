@@ -16,6 +16,13 @@ namespace ml {
 namespace {
 
 constexpr int kRowPixels = 64;  // Gouraud row buffer: rows of wider blocks go out in chunks
+// Texture segments kept per piece: one per row of a 16-row stretch (blocks are at most 8 rows high at
+// the finest level), so the next block along finds its rows' segments decided (texture/mapping.h).
+constexpr int kSegmentRowBits = 4;
+
+size_t segment_rows_bytes(size_t pager_bytes) {
+  return pager_bytes ? arena_worst_case(sizeof(TextureSegment) << kSegmentRowBits, 8) : 0;
+}
 
 // One traversal frame, 4 bytes: node index (< 2^31, the reader bounds counts far below) and, in the
 // top bit, whether the near side is done.
@@ -68,9 +75,10 @@ class BandWriter : public CoverageWriter, public SourceColours {
     texture_ready_ = false;
   }
   // Textured pieces (texture/): the pager, and the view their texture planes are built in.
-  void use_textures(TexturePager* pager, const View* view) {
+  void use_textures(TexturePager* pager, const View* view, TextureSegment* segment_rows) {
     pager_ = pager->active() ? pager : nullptr;
     view_ = view;
+    segment_rows_ = segment_rows;
   }
   void begin_part(const ScreenTriangle* part) {
     part_ = part;
@@ -196,25 +204,45 @@ class BandWriter : public CoverageWriter, public SourceColours {
   Pixel texel_at(int px, int py, Pixel c) {
     const uint8_t* bytes = pager_->get(texture_);
     if (!bytes) return c;
+    int32_t uv[2];
+    texture_uv(texture_planes(), px, py, uv);
+    return sample_texture(scene_->texture_texels[texture_], bytes, uv, c);
+  }
+  TexturePlanes& texture_planes() {
     if (!texture_ready_) {
-      triangle_texture_planes(*scene_, *view_, triangle_, 1, kSubpixelHalf, kSubpixelHalf, &texture_planes_);
+      triangle_texture_planes(*scene_, *view_, triangle_, texture_, 1, kSubpixelHalf, kSubpixelHalf,
+                              &texture_planes_);
+      use_segment_rows(&texture_planes_, segment_rows_, kSegmentRowBits);
       texture_ready_ = true;
     }
-    int32_t uv[2];
-    texture_uv(texture_planes_, px, py, uv);
-    return modulate_texel(sample_texture(scene_->texture_texels[texture_], bytes, uv), c);
+    return texture_planes_;
   }
 
-  // A block of a textured piece, pixel by pixel.
+  // A block of a textured piece: flat colours row by row (texture/sampler.h texture_row), smooth
+  // ones pixel by pixel.
   void write_textured(int x, int y, int w, int h) {
     stats_->shading_calls += uint64_t(w) * uint64_t(h);
+    const uint8_t* bytes = colors_.smooth ? nullptr : pager_->get(texture_);
+    if (!bytes) {
+      for (int yy = y; yy < y + h; ++yy)
+        for (int x0 = x; x0 < x + w; x0 += kRowPixels) {
+          const int n = min_of(kRowPixels, x + w - x0);
+          for (int i = 0; i < n; ++i) row_[i] = color_of_textured(x0 + i, yy);
+          out_.put_row(x0, yy, row_, n);
+        }
+      return;
+    }
+    const TextureTexels& t = scene_->texture_texels[texture_];
+    Pixel lut_colour;
+    const Pixel* lut = pager_->texel_lut(texture_, colors_.flat, bytes, uint32_t(w) * uint32_t(h), &lut_colour);
     for (int yy = y; yy < y + h; ++yy)
       for (int x0 = x; x0 < x + w; x0 += kRowPixels) {
         const int n = min_of(kRowPixels, x + w - x0);
-        for (int i = 0; i < n; ++i) row_[i] = texel_at(x0 + i, yy, base_at(x0 + i, yy));
+        texture_row(texture_planes(), t, bytes, lut, lut_colour, colors_.flat, x0, yy, n, row_);
         out_.put_row(x0, yy, row_, n);
       }
   }
+  Pixel color_of_textured(int px, int py) { return texel_at(px, py, base_at(px, py)); }
 
   // Samples [x, x + w) x [band_y, band_y + h) newly covered with the current colour. A pixel covered
   // whole by one write had none of its samples covered before (each is handed over once): it leaves
@@ -275,6 +303,7 @@ class BandWriter : public CoverageWriter, public SourceColours {
   uint32_t texture_ = kNone;
   bool texture_ready_ = false;
   TexturePlanes texture_planes_{};
+  TextureSegment* segment_rows_ = nullptr;
 };
 
 // A BSP piece cut from a triangle has split vertices quantized like any vertex, so its outer edges
@@ -426,7 +455,7 @@ void box_screen_rect(const View& view, const ViewBox& box, int32_t* x0, int32_t*
   // Clamped far outside the screen so the int32 results stay meaningful.
   const int64_t lim = int64_t(kMaxScreenDim) * 4;
   auto sample = [&](int64_t center, int64_t s, int64_t margin) {
-    return int32_t(clamp_to<int64_t>(div_floor(center + s, kSubpixelOne) + margin, -lim, lim));
+    return int32_t(clamp_to<int64_t>(floor_shift(center + s, kSubpixelBits) + margin, -lim, lim));
   };
   *x0 = sample(view.center_x, sx0, -kBoxMarginSamples);
   *x1 = sample(view.center_x, sx1, kBoxMarginSamples);
@@ -451,30 +480,6 @@ struct BandRows {
     return true;
   }
 };
-
-// True when no sample of the band that a piece of the node's subtree could write is still uncovered
-// (or the subtree has no pieces).
-bool subtree_hidden(const View& view, const BandRows& band, const BspNode& node, HierTiler& tiler) {
-  if (node.subtree_pieces == 0) return true;
-  ViewBox vbox;
-  if (!view_box(view, node, &vbox)) return false;
-  // Most subtrees lie outside most bands: that is decided without a division.
-  if (box_outside_rows(view, vbox, band.top, band.top + band.rows)) return true;
-  int32_t x0, y0, x1, y1;  // pixels
-  box_screen_rect(view, vbox, &x0, &y0, &x1, &y1);
-  x0 = max_of(x0, 0);
-  x1 = min_of(x1, view.width - 1);
-  if (y1 < band.top || y0 >= band.top + band.rows) return true;
-  y0 = max_of(y0 - band.top, 0);
-  y1 = min_of(y1 - band.top, band.rows - 1);
-  const int f = band.factor;  // to band samples
-  ConvexPoly box;
-  box.min_x = x0 * f;
-  box.max_x = x1 * f + f - 1;
-  box.min_y = y0 * f;
-  box.max_y = min_of(y1 * f + f - 1, band.samples - 1);
-  return !tiler.box_visible(box);  // false for an empty (off-screen) box too
-}
 
 // Samples a pixel per axis: options.aa, except for ids, which are point-sampled at pixel centres.
 int sample_factor(const RenderOptions& options) {
@@ -525,6 +530,38 @@ bool band_layout(int width, int samples, int factor, PyramidLayout* out) {
   return make_pyramid_layout(clamp_to(width, 1, kMaxScreenDim) * factor, clamp_to(samples, 1, kMaxSampleDim), out);
 }
 
+// The band plan, made when the arena has room for one byte a BSP piece (tiler_plan_bytes): the bands
+// each piece can reach, worked out on its first visit in any band (triangle_row_span, exactly the
+// per-band test) together with its facing. Later bands then skip the piece from one byte, without
+// reading its vertices, and never repeat its facing test; pieces the walk never reaches cost nothing.
+// A byte holds the first and last band group (4 bits each; a group is one band when there are at most
+// 16, else ceil(bands / 16) bands, and the per-band test still runs); first > last: no band.
+class BandPlan {
+ public:
+  static constexpr uint8_t kUnknown = 0xF1, kNoBand = 0xF0, kEveryBand = 0x0F;
+
+  void init(uint8_t* bytes, uint32_t count, int bands) {
+    bytes_ = bytes;
+    for (uint32_t i = 0; i < count; ++i) bytes_[i] = kUnknown;
+    group_ = (bands + 15) / 16;
+  }
+  bool active() const { return bytes_ != nullptr; }
+  // Whether a byte's bands are exactly the per-band test's (no test needed after it).
+  bool exact() const { return group_ == 1; }
+  uint8_t& at(uint32_t piece) { return bytes_[piece]; }
+  uint8_t make(int first_band, int last_band) const {
+    return uint8_t((first_band / group_) << 4 | (last_band / group_));
+  }
+  bool has(uint8_t b, int band) const {
+    const int g = band / group_;
+    return (b >> 4) <= g && g <= (b & 15);
+  }
+
+ private:
+  uint8_t* bytes_ = nullptr;
+  int group_ = 1;
+};
+
 // One frame: the BSP walked front to back once per band, each band's pyramid rebuilt in the same
 // arena space.
 class TilerFrame {
@@ -539,8 +576,13 @@ class TilerFrame {
   Status render_band(int band, Arena& arena);
   // The BSP front to back into the band's pyramid, until the band is covered.
   Status walk_bsp();
+  // True when no sample of the band that a piece of the node's subtree could write is still
+  // uncovered (or the subtree has no pieces).
+  bool subtree_hidden(const BspNode& node);
   // Projects, culls and tiles one piece into the band's pyramid.
-  Status draw_piece(const BspPiece& piece);
+  Status draw_piece(uint32_t index);
+  // The plan byte of a piece facing the eye, from its world vertices.
+  uint8_t plan_bands(const Vec3i world[3]) const;
   // Plans each texture's last pixel row from the textured triangles' projected extent.
   void plan_textures();
   Status finish(Status s, const Arena& arena) {
@@ -558,6 +600,8 @@ class TilerFrame {
   Pyramid pyramid_;
   HierTiler tiler_;
   BandRows band_;
+  int band_index_ = 0;
+  BandPlan plan_;
   BandWriter* writer_ = nullptr;
   SampleFilter* cosine_;
   BspFrame* stack_ = nullptr;
@@ -576,11 +620,16 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
     if (!t.ok()) return finish(error(t.code, t.message, need), arena);
     plan_textures();
   }
+  TextureSegment* segment_rows = nullptr;
+  if (pager_.active()) {
+    segment_rows = arena.allocate_array<TextureSegment>(size_t(1) << kSegmentRowBits);
+    if (!segment_rows) return finish(error(StatusCode::ArenaTooSmall, "arena too small", need), arena);
+  }
   Status s = out_.begin(options_.output, camera_.width, camera_.height, arena, sink);
   if (!s.ok()) return finish(s.code == StatusCode::ArenaTooSmall ? error(s.code, s.message, need) : s, arena);
   light_ = make_light(view_);
   BandWriter writer(out_, st_, row);
-  writer.use_textures(&pager_, &view_);
+  writer.use_textures(&pager_, &view_, segment_rows);
   writer_ = &writer;
   band_.factor = sample_factor(options_);
   if (uses_cosine(options_)) {
@@ -596,6 +645,12 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
   }
   st_->bsp_nodes = scene_.bsp_node_count;
   st_->bsp_pieces = scene_.bsp_piece_count;
+  if (out_.band_count() > 1) {  // the plan, when the bands' pyramid still fits beside it
+    PyramidLayout layout;
+    band_layout(camera_.width, tiled_samples(options_, 0, out_.band_rows(), camera_.height), band_.factor, &layout);
+    if (arena.size() - arena.used() >= Pyramid::arena_bytes(layout) + tiler_plan_bytes(scene_))
+      plan_.init(arena.allocate_array<uint8_t>(tiler_plan_bytes(scene_)), scene_.bsp_piece_count, out_.band_count());
+  }
   for (int band = 0; band < out_.band_count(); ++band) {
     s = render_band(band, arena);
     if (!s.ok()) return finish(s, arena);
@@ -606,6 +661,7 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
 Status TilerFrame::render_band(int band, Arena& arena) {
   Status s = out_.start_band(band);
   if (!s.ok()) return s;
+  band_index_ = band;
   band_.top = out_.band_top(band);
   band_.samples = tiled_samples(options_, band_.top, out_.band_height(band), camera_.height);
   band_.rows = (band_.samples + band_.factor - 1) / band_.factor;  // with the halo's partial row
@@ -642,7 +698,7 @@ void TilerFrame::plan_textures() {
     const Material& mat = scene_.materials[scene_.batches[triangle_at(scene_, id).batch].material];
     if (facing == 0 || (facing < 0 && !mat.double_sided)) continue;
     ScreenTriangle parts[kMaxClipTriangles];
-    const int n = project_triangle(view_, world, facing, parts);
+    const int n = project_triangle(view_, world, facing, parts, false);
     int32_t last = -1;
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < 3; ++j) last = max_of(last, parts[i].v[j].y);
@@ -670,7 +726,7 @@ Status TilerFrame::walk_bsp() {
     const uint32_t near = side >= 0 ? node.front : node.back;
     const uint32_t far = side >= 0 ? node.back : node.front;
     if (!(f & kNearDone)) {
-      if (node.subtree_pieces >= kCullMinPieces && subtree_hidden(view_, band_, node, tiler_)) {
+      if (node.subtree_pieces >= kCullMinPieces && subtree_hidden(node)) {
         // Every piece below is hidden (or outside the band).
         pieces_done += node.subtree_pieces;
         st_->triangles_culled += node.subtree_pieces;
@@ -687,7 +743,7 @@ Status TilerFrame::walk_bsp() {
     }
     for (uint32_t p = node.first_piece; p < node.first_piece + node.piece_count; ++p) {
       ++pieces_done;
-      const Status s = draw_piece(bsp_piece(scene_, p));
+      const Status s = draw_piece(p);
       if (!s.ok()) return s;
       if (writer_->wrote_piece()) ++st_->triangles_drawn; else ++st_->triangles_culled;
     }
@@ -698,24 +754,71 @@ Status TilerFrame::walk_bsp() {
   return ok_status();
 }
 
-Status TilerFrame::draw_piece(const BspPiece& piece) {
+bool TilerFrame::subtree_hidden(const BspNode& node) {
+  if (node.subtree_pieces == 0) return true;
+  ViewBox vbox;
+  if (!view_box(view_, node, &vbox)) return false;
+  // Most subtrees lie outside most bands: that is decided without a division.
+  const BandRows& band = band_;
+  if (box_outside_rows(view_, vbox, band.top, band.top + band.rows)) return true;
+  int32_t x0, y0, x1, y1;  // pixels
+  box_screen_rect(view_, vbox, &x0, &y0, &x1, &y1);
+  x0 = max_of(x0, 0);
+  x1 = min_of(x1, view_.width - 1);
+  if (y1 < band.top || y0 >= band.top + band.rows) return true;
+  y0 = max_of(y0 - band.top, 0);
+  y1 = min_of(y1 - band.top, band.rows - 1);
+  const int f = band.factor;  // to band samples
+  ConvexPoly box;
+  box.min_x = x0 * f;
+  box.max_x = x1 * f + f - 1;
+  box.min_y = y0 * f;
+  box.max_y = min_of(y1 * f + f - 1, band.samples - 1);
+  return !tiler_.box_visible(box);  // false for an empty (off-screen) box too
+}
+
+uint8_t TilerFrame::plan_bands(const Vec3i world[3]) const {
+  int64_t first, last;
+  if (!triangle_row_span(view_, world, &first, &last)) return BandPlan::kEveryBand;
+  const int rows = out_.band_rows(), height = camera_.height;
+  if (first > last || last < 0 || first >= height) return BandPlan::kNoBand;
+  // A row at the top of a band is also in the halo of the band above (cosine filter).
+  const int64_t halo_first = halo_samples(options_) > 0 ? first - 1 : first;
+  return plan_.make(halo_first <= 0 ? 0 : int(halo_first) / rows, int(min_of<int64_t>(last, height - 1)) / rows);
+}
+
+Status TilerFrame::draw_piece(uint32_t index) {
   writer_->clear_piece();
+  uint8_t* planned = plan_.active() ? &plan_.at(index) : nullptr;
+  const bool known = planned && *planned != BandPlan::kUnknown;
+  if (known && !plan_.has(*planned, band_index_)) return ok_status();  // culled, or not in this band
+  const BspPiece piece = bsp_piece(scene_, index);
   const Triangle tri = triangle_at(scene_, piece.triangle);
   const Material& mat = scene_.materials[scene_.batches[tri.batch].material];
   // Facing is decided on the whole triangle, exactly as the scanline renderer decides it, and
-  // before projecting, so back faces cost almost nothing.
+  // before projecting, so back faces cost almost nothing. A planned piece faces the eye unless its
+  // material is double-sided (then the side picks its shading).
   Vec3i whole_world[3];
   triangle_world(scene_, piece.triangle, whole_world);
-  const int facing = triangle_facing(view_, whole_world);
-  if (facing == 0 || (facing < 0 && !mat.double_sided)) return ok_status();
+  const int facing = known && !mat.double_sided ? 1 : triangle_facing(view_, whole_world);
+  if (facing == 0 || (facing < 0 && !mat.double_sided)) {
+    if (planned) *planned = BandPlan::kNoBand;
+    return ok_status();
+  }
   const bool split = is_split_piece(piece, tri);
   Vec3i world[3];
   for (int i = 0; i < 3; ++i) world[i] = split ? vertex_world(scene_, tri.batch, piece.v[i]) : whole_world[i];
-  // Outside this band: skipped before projecting (most pieces, with many bands).
-  if (band_.rows < camera_.height && triangle_outside_rows(view_, world, band_.top, band_.top + band_.rows - 1))
+  if (planned && !known) {
+    *planned = plan_bands(world);
+    if (!plan_.has(*planned, band_index_)) return ok_status();
+  }
+  // Outside this band: skipped before projecting (most pieces, with many bands); an exact plan has
+  // answered that already.
+  if (band_.rows < camera_.height && !(planned && plan_.exact()) &&
+      triangle_outside_rows(view_, world, band_.top, band_.top + band_.rows - 1))
     return ok_status();
   ScreenTriangle parts[kMaxClipTriangles];
-  const int n = project_triangle(view_, world, facing, parts);
+  const int n = project_triangle(view_, world, facing, parts, false);  // the tiler reads no depths
   writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0);
   for (int i = 0; i < n; ++i) {
     const int f = band_.factor;
@@ -727,7 +830,7 @@ Status TilerFrame::draw_piece(const BspPiece& piece) {
     if (!band_.clip(&in_band)) continue;
     if (n == 1 && split && tiler_.box_visible(in_band)) {
       ScreenTriangle whole[kMaxClipTriangles];
-      if (project_triangle(view_, whole_world, facing, whole) == 1) {
+      if (project_triangle(view_, whole_world, facing, whole, false) == 1) {
         TriangleSetup whole_setup;
         setup_triangle(whole[0], camera_.width, camera_.height, &whole_setup);
         ConvexPoly whole_poly;
@@ -747,13 +850,15 @@ Status TilerFrame::draw_piece(const BspPiece& piece) {
 
 }  // namespace
 
+size_t tiler_plan_bytes(const Scene& scene) { return scene.bsp_piece_count; }
+
 size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
   PyramidLayout layout;
   const int width = clamp_to(camera.width, 1, kMaxScreenDim), height = clamp_to(camera.height, 1, kMaxScreenDim);
   const int rows = band_rows_for(options.output, height), factor = clamp_to(sample_factor(options), 1, kMaxTilerAa);
   if (!band_layout(width, tiled_samples(options, 0, rows, height), factor, &layout)) return 0;
   const size_t pager = options.shading == ShadingMode::Ids ? 0 : TexturePager::arena_bytes(scene, options.texture_pool_bytes);
-  return pager + Pyramid::arena_bytes(layout) + sums_arena_bytes(options, width, rows) +
+  return pager + segment_rows_bytes(pager) + Pyramid::arena_bytes(layout) + sums_arena_bytes(options, width, rows) +
          arena_worst_case(sizeof(BspFrame) * bsp_stack_entries(scene), 4) +
          arena_worst_case(sizeof(Pixel) * kRowPixels, 4) +
          BandOutput::arena_bytes(options.output, width, height);

@@ -81,21 +81,28 @@ int clip_polygon(const View& view, ClipPlane plane, const ClipVertex* in, int co
 // Screen position offset from the centre, in subpixels, before any range check (|result| < 2^57).
 // z > 0 (in front): a divisor below 2^31, so no 64-bit division on a 32-bit board (core/fixed.h).
 inline int64_t project_offset(const View& view, int32_t c, int32_t z) {
-  return div_round(view.focal_q8 * c, z);
+  // div_round with the divisor's sign known: rounds the magnitude, then restores the sign.
+  const int64_t n = view.focal_q8 * c;
+  const uint64_t q = udiv64(magnitude(n) + uint32_t(z) / 2, uint32_t(z));
+  return n < 0 ? -int64_t(q) : int64_t(q);
 }
 
-ScreenVertex make_screen_vertex(const View& view, const ClipVertex& c, int64_t offset_x, int64_t offset_y) {
+// |v| <= limit, as one unsigned comparison (limit < 2^62).
+inline bool within(int64_t v, int64_t limit) { return uint64_t(v + limit) <= uint64_t(2 * limit); }
+
+ScreenVertex make_screen_vertex(const View& view, const ClipVertex& c, int64_t offset_x, int64_t offset_y,
+                                bool depth) {
   ScreenVertex s;
   s.x = int32_t(view.center_x + offset_x);
   s.y = int32_t(view.center_y + offset_y);
   s.z = c.p.z;
-  s.depth = uint32_t(udiv64(uint64_t(view.near) << kDepthBits, uint64_t(c.p.z)));
+  s.depth = depth ? uint32_t(udiv64(uint64_t(view.near) << kDepthBits, uint64_t(c.p.z))) : 0;
   for (int k = 0; k < 3; ++k) s.weight[k] = c.weight[k];
   return s;
 }
 
-ScreenVertex project(const View& view, const ClipVertex& c) {
-  return make_screen_vertex(view, c, project_offset(view, c.p.x, c.p.z), project_offset(view, c.p.y, c.p.z));
+ScreenVertex project(const View& view, const ClipVertex& c, bool depth) {
+  return make_screen_vertex(view, c, project_offset(view, c.p.x, c.p.z), project_offset(view, c.p.y, c.p.z), depth);
 }
 
 int64_t signed_area2(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c) {
@@ -199,9 +206,9 @@ int triangle_facing(const View& view, const Vec3i world[3]) {
                             e1[0] * e2[1] - e1[1] * e2[0]};
   // The common case (triangles small against the world, eye not too far): every product is below
   // 2^61 and the plain sum fits.
-  const int64_t c_max = max_of(abs64(cross[0]), max_of(abs64(cross[1]), abs64(cross[2])));
-  const int64_t r_max = max_of(abs64(r[0]), max_of(abs64(r[1]), abs64(r[2])));
-  if (c_max < (int64_t(1) << 36) && r_max < (int64_t(1) << 25)) {
+  constexpr int64_t c_limit = (int64_t(1) << 36) - 1, r_limit = (int64_t(1) << 25) - 1;
+  if (within(cross[0], c_limit) && within(cross[1], c_limit) && within(cross[2], c_limit) &&
+      within(r[0], r_limit) && within(r[1], r_limit) && within(r[2], r_limit)) {
     const int64_t det = cross[0] * r[0] + cross[1] * r[1] + cross[2] * r[2];
     return det > 0 ? 1 : (det < 0 ? -1 : 0);
   }
@@ -244,7 +251,7 @@ bool unclipped(const View& view, const Vec3i world[3], Vec3i p[3], int64_t ox[3]
   for (int i = 0; i < 3; ++i) {
     ox[i] = project_offset(view, p[i].x, p[i].z);
     oy[i] = project_offset(view, p[i].y, p[i].z);
-    if (abs64(ox[i]) > guard || abs64(oy[i]) > guard) return false;
+    if (!within(ox[i], guard) || !within(oy[i], guard)) return false;
   }
   return true;
 }
@@ -262,7 +269,8 @@ bool project_unclipped_positions(const View& view, const Vec3i world[3], int32_t
   return true;
 }
 
-int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenTriangle out[kMaxClipTriangles]) {
+int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenTriangle out[kMaxClipTriangles],
+                     bool depths) {
   if (facing == 0) return 0;  // seen edge-on: covers nothing
   Vec3i p[3];
   int64_t ox[3], oy[3];
@@ -275,7 +283,7 @@ int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenT
     poly[i].weight[i] = kWeightOne;
   }
   if (fast) {
-    for (int i = 0; i < 3; ++i) out[0].v[i] = make_screen_vertex(view, poly[i], ox[i], oy[i]);
+    for (int i = 0; i < 3; ++i) out[0].v[i] = make_screen_vertex(view, poly[i], ox[i], oy[i], depths);
     out[0].front_facing = facing > 0;
     return orient(&out[0]) ? 1 : 0;
   }
@@ -292,7 +300,7 @@ int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenT
   if (count < 3) return 0;
 
   ScreenVertex projected[kMaxPolygon];
-  for (int i = 0; i < count; ++i) projected[i] = project(view, poly[i]);
+  for (int i = 0; i < count; ++i) projected[i] = project(view, poly[i], depths);
 
   int n = 0;
   for (int i = 1; i + 1 < count; ++i) {
@@ -324,6 +332,25 @@ bool triangle_outside_rows(const View& view, const Vec3i world[3], int32_t row0,
   return above || below;
 }
 
+bool triangle_row_span(const View& view, const Vec3i world[3], int64_t* first, int64_t* last) {
+  // Vertex i lies at Y_i = center_y + focal y_i / z_i subpixels (exactly, before rounding). The band
+  // test calls the triangle above row0 when every Y_i < row0 * 256, i.e. floor(max Y) < row0 * 256, and
+  // below row1 when every Y_i > (row1 + 1) * 256, i.e. ceil(min Y) - 1 >= (row1 + 1) * 256. z_i is
+  // below 2^31: one 64-by-32-bit division a vertex (core/fixed.h).
+  int64_t floor_max = INT64_MIN, ceil_min = INT64_MAX;
+  for (int i = 0; i < 3; ++i) {
+    const int64_t z = view_coordinate(view, view.forward, world[i]);
+    if (z < view.near) return false;
+    const int64_t fy = view.focal_q8 * view_coordinate(view, view.down, world[i]);
+    const int64_t q = div_floor(fy, z);
+    floor_max = max_of(floor_max, view.center_y + q);
+    ceil_min = min_of(ceil_min, view.center_y + q + (q * z != fy ? 1 : 0));
+  }
+  *last = floor_shift(floor_max, kSubpixelBits);
+  *first = floor_shift(ceil_min - 1, kSubpixelBits);
+  return true;
+}
+
 void setup_triangle(const ScreenTriangle& tri, int width, int height, TriangleSetup* out) {
   int32_t min_x = tri.v[0].x, max_x = tri.v[0].x, min_y = tri.v[0].y, max_y = tri.v[0].y;
   for (int i = 0; i < 3; ++i) {
@@ -334,11 +361,11 @@ void setup_triangle(const ScreenTriangle& tri, int width, int height, TriangleSe
     min_y = min_of(min_y, p.y); max_y = max_of(max_y, p.y);
   }
   // Pixel centres px*256+128 inside [min, max]: px >= ceil((min-128)/256), px <= floor((max-128)/256).
-  const int64_t one = kSubpixelOne;
-  out->min_x = int32_t(max_of<int64_t>(0, -div_floor(-(int64_t(min_x) - kSubpixelHalf), one)));
-  out->min_y = int32_t(max_of<int64_t>(0, -div_floor(-(int64_t(min_y) - kSubpixelHalf), one)));
-  out->max_x = int32_t(min_of<int64_t>(width - 1, div_floor(int64_t(max_x) - kSubpixelHalf, one)));
-  out->max_y = int32_t(min_of<int64_t>(height - 1, div_floor(int64_t(max_y) - kSubpixelHalf, one)));
+  // Floors by 256 as arithmetic shifts (no division helper on a 32-bit board).
+  out->min_x = int32_t(max_of<int64_t>(0, -floor_shift(-(int64_t(min_x) - kSubpixelHalf), kSubpixelBits)));
+  out->min_y = int32_t(max_of<int64_t>(0, -floor_shift(-(int64_t(min_y) - kSubpixelHalf), kSubpixelBits)));
+  out->max_x = int32_t(min_of<int64_t>(width - 1, floor_shift(int64_t(max_x) - kSubpixelHalf, kSubpixelBits)));
+  out->max_y = int32_t(min_of<int64_t>(height - 1, floor_shift(int64_t(max_y) - kSubpixelHalf, kSubpixelBits)));
 }
 
 }  // namespace ml

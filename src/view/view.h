@@ -80,8 +80,10 @@ int triangle_facing(const View& view, const Vec3i world[3]);
 int project_triangle(const View& view, const Vec3i world[3], ScreenTriangle out[kMaxClipTriangles]);
 
 // The same with the facing already known: triangle_facing() of this triangle, or of the triangle it
-// is a piece of (BSP pieces take their original triangle's facing).
-int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenTriangle out[kMaxClipTriangles]);
+// is a piece of (BSP pieces take their original triangle's facing). depths == false leaves every
+// ScreenVertex::depth 0 and saves its division per vertex (the tiler never reads depths).
+int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenTriangle out[kMaxClipTriangles],
+                     bool depths = true);
 
 // The screen positions (subpixels) project_triangle gives a triangle it does not clip, before it orders
 // them (area2 > 0) and without depths or weights: a cheap first look for callers that may drop the
@@ -104,6 +106,12 @@ inline int32_t view_coordinate(const View& view, const Vec3i& axis, const Vec3i&
 // margin for rounding). Costs six dot products and no division: the band renderer rejects pieces
 // outside its band with it before projecting them. False when unsure.
 bool triangle_outside_rows(const View& view, const Vec3i world[3], int32_t row0, int32_t row1);
+
+// The rows triangle_outside_rows keeps, worked out once: false when a vertex lies behind the near
+// plane (then no row can be ruled out); otherwise triangle_outside_rows(view, world, row0, row1) is
+// exactly row1 < *first || row0 > *last (first > last when no row is kept). One division per vertex
+// instead of six dot products per band: a renderer that visits a triangle in many bands asks once.
+bool triangle_row_span(const View& view, const Vec3i world[3], int64_t* first, int64_t* last);
 
 // The fill rule for an edge with E(x, y) = a x + b y + c: samples exactly on it are covered only if it
 // is a left edge (a > 0) or a top edge (a == 0, b > 0).

@@ -1,6 +1,7 @@
 #include "tests/oracle/texturer.h"
 #include "tests/oracle/vec3_math.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace oracle {
@@ -19,7 +20,8 @@ double channel(uint32_t c, int k) { return double((c >> (16 - 8 * k)) & 0xFF); }
 
 std::vector<TexturedPixel> texture_image(const std::vector<Triangle>& triangles, const std::vector<Surface>& surfaces,
                                          const std::vector<Texture>& textures, const Camera& cam,
-                                         const Result& visible, double texel_margin, double edge_margin) {
+                                         const Result& visible, double texel_margin, double edge_margin,
+                                         const CoordinateError& error) {
   std::vector<TexturedPixel> out(size_t(cam.width) * size_t(cam.height));
   const Vec3 forward = normalized(sub(cam.target, cam.eye));
   const Vec3 right = normalized(cross(forward, cam.up));
@@ -33,25 +35,42 @@ std::vector<TexturedPixel> texture_image(const std::vector<Triangle>& triangles,
       const Surface& s = surfaces[size_t(id)];
       if (s.texture < 0) continue;
       const Triangle& t = triangles[size_t(id)];
-      const Vec3 dir = add(forward, add(scale(right, (x + 0.5 - cam.width / 2.0) / focal),
-                                        scale(down, (y + 0.5 - cam.height / 2.0) / focal)));
-      // Moller-Trumbore without the inside test (the rasterizer decided coverage).
-      const Vec3 e1 = sub(t.v[1], t.v[0]), e2 = sub(t.v[2], t.v[0]);
-      const Vec3 p = cross(dir, e2);
-      const double det = dot(e1, p);
-      if (std::fabs(det) < 1e-30) continue;
-      const Vec3 o = sub(cam.eye, t.v[0]);
-      const double b1 = dot(o, p) / det;
-      const double b2 = dot(dir, cross(o, e1)) / det;
-      const double b0 = 1 - b1 - b2;
-      const double u = b0 * s.uv[0][0] + b1 * s.uv[1][0] + b2 * s.uv[2][0];
-      const double v = b0 * s.uv[0][1] + b1 * s.uv[1][1] + b2 * s.uv[2][1];
+      // Texture coordinates where the ray through pixel centre (px + 0.5, y + 0.5) meets the triangle's
+      // plane: Moller-Trumbore without the inside test (the rasterizer decided coverage).
+      auto uv_at = [&](double px, double uv[2]) {
+        const Vec3 dir = add(forward, add(scale(right, (px + 0.5 - cam.width / 2.0) / focal),
+                                          scale(down, (y + 0.5 - cam.height / 2.0) / focal)));
+        const Vec3 e1 = sub(t.v[1], t.v[0]), e2 = sub(t.v[2], t.v[0]);
+        const Vec3 p = cross(dir, e2);
+        const double det = dot(e1, p);
+        if (std::fabs(det) < 1e-30) return false;
+        const Vec3 o = sub(cam.eye, t.v[0]);
+        const double b1 = dot(o, p) / det;
+        const double b2 = dot(dir, cross(o, e1)) / det;
+        const double b0 = 1 - b1 - b2;
+        for (int k = 0; k < 2; ++k) uv[k] = b0 * s.uv[0][k] + b1 * s.uv[1][k] + b2 * s.uv[2][k];
+        return true;
+      };
+      double uv[2];
+      if (!uv_at(x, uv)) continue;
+      const double u = uv[0], v = uv[1];
       const Texture& tex = textures[size_t(s.texture)];
+      // The coordinate error allowed here, in texels.
+      double delta = tex.bilinear ? error.texel_bilinear : error.texel_nearest;
+      if (error.shift > 0) {
+        const int x0 = x - x % error.segment;
+        double a[2], b[2];
+        if (!uv_at(x0, a) || !uv_at(x0 + error.segment, b)) continue;
+        const double step = std::max(std::fabs(b[0] - a[0]) * tex.width, std::fabs(b[1] - a[1]) * tex.height) /
+                            error.segment;
+        delta = std::max(delta, error.shift * step);
+      }
       double texel[3];
+      TexturedPixel& px = out[i];
       if (!tex.bilinear) {
         const double su = u * tex.width, sv = v * tex.height;
-        const double fu = su - std::floor(su), fv = sv - std::floor(sv);
-        if (fu < texel_margin || fu > 1 - texel_margin || fv < texel_margin || fv > 1 - texel_margin) continue;
+        const double fu = su - std::floor(su), fv = sv - std::floor(sv), m = texel_margin + delta;
+        if (fu < m || fu > 1 - m || fv < m || fv > 1 - m) continue;
         const uint32_t c = tex.rgb[size_t(wrap(long(std::floor(sv)), tex.height, tex.wrap_t)) * size_t(tex.width) +
                                    size_t(wrap(long(std::floor(su)), tex.width, tex.wrap_s))];
         for (int k = 0; k < 3; ++k) texel[k] = channel(c, k);
@@ -66,9 +85,18 @@ std::vector<TexturedPixel> texture_image(const std::vector<Triangle>& triangles,
           };
           texel[k] = (at(x0, y0) * (1 - fu) + at(x0 + 1, y0) * fu) * (1 - fv) +
                      (at(x0, y0 + 1) * (1 - fu) + at(x0 + 1, y0 + 1) * fu) * fv;
+          // Moving the sample point by delta along an axis changes the blend by at most delta times
+          // the largest step between neighbours in the texels it can reach.
+          double steepest = 0;
+          const long reach = long(std::ceil(delta)) + 1;
+          for (long yy = y0 - reach; yy <= y0 + reach; ++yy)
+            for (long xx = x0 - reach; xx <= x0 + reach; ++xx) {
+              steepest = std::max(steepest, std::fabs(at(xx + 1, yy) - at(xx, yy)));
+              steepest = std::max(steepest, std::fabs(at(xx, yy + 1) - at(xx, yy)));
+            }
+          px.slack[k] = 2 * delta * steepest * channel(s.base, k) / 255.0;
         }
       }
-      TexturedPixel& px = out[i];
       px.known = true;
       for (int k = 0; k < 3; ++k) px.rgb[k] = texel[k] * channel(s.base, k) / 255.0;
     }

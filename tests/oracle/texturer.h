@@ -29,12 +29,25 @@ struct Surface {
 struct TexturedPixel {
   bool known = false;    // textured front surface, away from triangle and (nearest) texel edges
   double rgb[3] = {0, 0, 0};  // texel x base / 255 per channel, before rounding
+  double slack[3] = {0, 0, 0};  // bilinear: how far the colour may move within the coordinate error
+};
+
+// How far a renderer's texture coordinates may stray from the exact ones, in texels: the larger of
+// `texel` (nearest or bilinear filtering) and `shift` times the mean texel step per pixel along the
+// row over the pixel's segment (`segment` pixels from a multiple of it; both axes, the larger).
+// All zero: exact coordinates.
+struct CoordinateError {
+  double texel_nearest = 0, texel_bilinear = 0, shift = 0;
+  int segment = 1;
 };
 
 // Expected unlit colours. texel_margin: nearest-filtered samples whose texel coordinate lies within
-// this fraction of a texel of a texel edge are left unknown; edge_margin: pixels as in Result::decisive.
+// this fraction of a texel (plus the coordinate error) of a texel edge are left unknown; bilinear
+// samples get a slack of the coordinate error times the largest step between neighbouring texels;
+// edge_margin: pixels as in Result::decisive.
 std::vector<TexturedPixel> texture_image(const std::vector<Triangle>& triangles, const std::vector<Surface>& surfaces,
                                          const std::vector<Texture>& textures, const Camera& camera,
-                                         const Result& visible, double texel_margin, double edge_margin);
+                                         const Result& visible, double texel_margin, double edge_margin,
+                                         const CoordinateError& error = CoordinateError());
 
 }  // namespace oracle

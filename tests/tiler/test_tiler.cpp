@@ -401,6 +401,41 @@ TEST(TilerRender, BandSplitGivesTheSameImageAsOneBand) {
   }
 }
 
+// The band plan (arena bytes to spare, render_spare_bytes) changes nothing but the work: the same
+// image and the same counts as the least arena, at 16 bands or fewer (exact plan) and at more (bands
+// grouped, each still tested), with the plan's bytes showing in the peak.
+TEST(TilerRender, BandPlanGivesTheSameFrameAsTheLeastArena) {
+  std::mt19937 rng(91);
+  tiler_test::TestScene ts;
+  ts.build(tiler_test::random_scene(rng, 150, 160));
+  const ml::Camera cam = tiler_test::test_camera(173, 131);
+  for (ml::ShadingMode mode : {ml::ShadingMode::Ids, ml::ShadingMode::Flat, ml::ShadingMode::Gouraud}) {
+    for (int rows : {1, 5, 9, 16, 130}) {
+      ml::OutputOptions out;
+      out.band_rows = rows;
+      ml::RenderOptions opt;
+      opt.shading = mode;
+      opt.output = out;
+      const size_t need = ml::render_arena_bytes(ts.scene, cam, opt);
+      const size_t spare = ml::render_spare_bytes(ts.scene, cam, opt);
+      EXPECT_EQ(spare, size_t(ts.scene.bsp_piece_count));
+      const Frame least = render(ts.scene, cam, mode, nullptr, need, out);
+      const Frame planned = render(ts.scene, cam, mode, nullptr, need + spare, out);
+      ASSERT_TRUE(least.status.ok() && planned.status.ok());
+      ASSERT_TRUE(planned.sink.contract_ok()) << planned.sink.contract_error();
+      ASSERT_EQ(planned.sink.image, least.sink.image) << "band rows " << rows;
+      EXPECT_EQ(planned.stats.triangles_drawn, least.stats.triangles_drawn);
+      EXPECT_EQ(planned.stats.triangles_culled, least.stats.triangles_culled);
+      EXPECT_EQ(planned.stats.triangles_tiled, least.stats.triangles_tiled);
+      EXPECT_EQ(planned.stats.cells_visited, least.stats.cells_visited);
+      EXPECT_EQ(planned.stats.shading_calls, least.stats.shading_calls);
+      // The plan's bytes, and at most the pyramid's alignment after them.
+      EXPECT_GE(planned.stats.peak_arena_bytes, least.stats.peak_arena_bytes + spare) << "band rows " << rows;
+      EXPECT_LE(planned.stats.peak_arena_bytes, least.stats.peak_arena_bytes + spare + 16) << "band rows " << rows;
+    }
+  }
+}
+
 // Colours: every pixel of a Flat or Gouraud frame is the colour src/shade gives its owner (from
 // the Ids frame) at that pixel: flat colour, or ColorPlanes::at for smooth triangles.
 TEST(TilerRender, ColoursMatchShadeForTheOwner) {

@@ -361,6 +361,38 @@ TEST(ViewFacing, AgreesWithScreenOrientationOfLargeTriangles) {
   EXPECT_GT(checked, 500);
 }
 
+// triangle_row_span is triangle_outside_rows worked out once: for every row range the two agree, on
+// triangles at every scale (behind the near plane too) and row ranges on and far off the screen.
+TEST(ViewRows, RowSpanAgreesWithTheBandTest) {
+  std::mt19937_64 rng(29);
+  int spans = 0, outside = 0, inside = 0;
+  for (int iter = 0; iter < 4000; ++iter) {
+    const Camera cam = random_camera(rng, 64, 48);
+    const View view = make(cam);
+    Vec3i w[3];
+    const int kind = int(rng() % 4);
+    for (auto& p : w) p = random_point_near_view(rng, cam, kind);
+    int64_t first = 0, last = 0;
+    const bool known = ml::triangle_row_span(view, w, &first, &last);
+    spans += known;
+    for (int k = 0; k < 12; ++k) {
+      const int32_t row0 = int32_t(rng() % 90) - 20, row1 = row0 + int32_t(rng() % 20);
+      const bool out = ml::triangle_outside_rows(view, w, row0, row1);
+      EXPECT_EQ(out, known && (row1 < first || row0 > last)) << iter << " rows " << row0 << ".." << row1;
+      (out ? outside : inside)++;
+    }
+    // The span's edges are tight: its first and last rows are kept.
+    const int64_t lim = int64_t(1) << 28;
+    if (known && first <= last && first > -lim && last < lim) {
+      EXPECT_FALSE(ml::triangle_outside_rows(view, w, int32_t(first), int32_t(first))) << iter;
+      EXPECT_FALSE(ml::triangle_outside_rows(view, w, int32_t(last), int32_t(last))) << iter;
+    }
+  }
+  EXPECT_GT(spans, 1500);
+  EXPECT_GT(outside, 5000);
+  EXPECT_GT(inside, 5000);
+}
+
 TEST(ViewCamera, RejectsBadCameras) {
   View v;
   Camera c;

@@ -229,15 +229,17 @@ ml::Status zbuffer_render(const ml::Scene& scene, const ml::Camera& camera, ml::
 
 int usage() {
   fprintf(stderr,
-          "usage: bench prepare default|office[:LAYERS]|tessellated[:TRIANGLES]|banded|banded-plain|FILE|plain:FILE OUT.mls\n"
+          "usage: bench prepare default|office[:LAYERS]|tessellated[:TRIANGLES]|banded[-plain|-nearest|-bilinear]|FILE|\n"
+          "                     plain:FILE|nearest:FILE|bilinear:FILE OUT.mls\n"
           "       bench frame SCENE.mls tiler|scanline|zbuffer WxH AA[,cosine] [flat|gouraud] [BAND_ROWS [FORMAT]]\n"
           "       bench quality SCENE.mls WxH\n");
   return 2;
 }
 
-// The same scene without texels (every texture draws its material colour): the untextured baseline of
-// a textured frame. An empty path is the banded scene.
-ml::CompileResult compile_untextured(const std::string& path) {
+// A textured scene compiled in a variant: `plain` without texels (every texture draws its material
+// colour: the untextured baseline of a textured frame), `nearest` or `bilinear` with every sampler's
+// filter set so. An empty path is the banded scene.
+ml::CompileResult compile_variant(const std::string& variant, const std::string& path) {
   ml::SceneMesh mesh;
   if (path.empty()) {
     mesh = ml::make_banded_scene();
@@ -246,7 +248,11 @@ ml::CompileResult compile_untextured(const std::string& path) {
     ml::CompileResult failed;
     if (!ml::import_gltf_file(path, &mesh, &warnings, &failed.error)) return failed;
   }
-  mesh.images.clear();
+  if (variant == "plain") mesh.images.clear();
+  for (ml::MeshSampler& s : mesh.texture_samplers) {
+    if (variant == "nearest") s.filter = ml::TextureFilter::Nearest;
+    if (variant == "bilinear") s.filter = ml::TextureFilter::Bilinear;
+  }
   return ml::compile_mesh(mesh);
 }
 
@@ -259,7 +265,10 @@ int prepare(const std::string& what, const std::string& out) {
   else if (kind == "office") result = ml::build_office_scene(arg.empty() ? 8 : atoi(arg.c_str()));
   else if (kind == "tessellated") result = ml::build_tessellated_scene(arg.empty() ? 100000u : uint32_t(atol(arg.c_str())));
   else if (kind == "banded") result = ml::build_banded_scene();
-  else if (kind == "banded-plain" || kind == "plain") result = compile_untextured(kind == "plain" ? arg : "");
+  else if (kind == "banded-plain") result = compile_variant("plain", "");
+  else if (kind == "banded-nearest") result = compile_variant("nearest", "");
+  else if (kind == "banded-bilinear") result = compile_variant("bilinear", "");
+  else if (kind == "plain" || kind == "nearest" || kind == "bilinear") result = compile_variant(kind, arg);
   else result = ml::compile_gltf_file(what);
   if (!result.ok) {
     fprintf(stderr, "bench: %s\n", result.error.c_str());
@@ -327,9 +336,11 @@ int frame(const std::string& path, const std::string& renderer, const std::strin
   o.aa = aa;
   o.filter = filter;
   o.output = output;
+  // The least arena plus what makes the frame faster, as a board with RAM to spare gives it.
   const size_t bytes = ml::render_arena_bytes(scene, camera, o);
-  std::vector<uint64_t> storage(bytes / 8 + 1);
-  ml::Arena arena(storage.data(), bytes);
+  const size_t given = bytes + ml::render_spare_bytes(scene, camera, o);
+  std::vector<uint64_t> storage(given / 8 + 1);
+  ml::Arena arena(storage.data(), given);
   CALLGRIND_START_INSTRUMENTATION;
   s = ml::render(scene, camera, o, arena, sink, &stats);
   CALLGRIND_STOP_INSTRUMENTATION;

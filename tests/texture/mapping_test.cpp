@@ -1,0 +1,148 @@
+// The affine texture mapping (texture/mapping.h) against the exact division at every sample: random
+// triangles seen from random angles, every sample of rows across the screen, in any order; and the
+// row function both renderers draw with (texture/sampler.h texture_row) against the sample-by-sample
+// colours, for every format, wrap mode, filter and texel table.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "texture/mapping.h"
+#include "texture/sampler.h"
+#include "view/view.h"
+
+namespace {
+
+struct Case {
+  ml::View view;
+  ml::Vec3i world[3];
+  int32_t uv[3][2];
+  uint32_t width, height;
+  int error_bits;
+};
+
+Case random_case(std::mt19937& rng) {
+  std::uniform_int_distribution<int> coord(-3000, 3000), far(-30000, -2000), uvd(-8 * 65536, 8 * 65536);
+  Case c{};
+  ml::Camera cam;
+  cam.eye = ml::Vec3i{0, 0, 0};
+  cam.target = ml::Vec3i{coord(rng) / 10, coord(rng) / 10, -1000};
+  cam.width = 320;
+  cam.height = 240;
+  cam.near = 16;
+  EXPECT_TRUE(ml::make_view(cam, &c.view).ok());
+  for (int i = 0; i < 3; ++i) {
+    // Some triangles nearly edge-on (strong perspective), some facing the eye.
+    c.world[i] = ml::Vec3i{coord(rng) * 3, coord(rng) * 2, far(rng)};
+    c.uv[i][0] = uvd(rng);
+    c.uv[i][1] = uvd(rng);
+  }
+  c.width = 1u << std::uniform_int_distribution<int>(0, 10)(rng);
+  c.height = 1u << std::uniform_int_distribution<int>(0, 10)(rng);
+  c.error_bits = rng() % 2 ? ml::kTextureAffineErrorBitsNearest : ml::kTextureAffineErrorBitsBilinear;
+  return c;
+}
+
+TEST(TextureMapping, AffinePiecesStayWithinTheStatedBound) {
+  std::mt19937 rng(20261130);
+  size_t samples = 0, affine = 0;
+  for (int n = 0; n < 300; ++n) {
+    const Case c = random_case(rng);
+    ml::TexturePlanes p;
+    ml::make_texture_planes(c.view, c.world, c.uv, 1, ml::kSubpixelHalf, ml::kSubpixelHalf, c.width, c.height,
+                            c.error_bits, &p);
+    for (int32_t y = 0; y < 240; y += 37) {
+      // Left to right, then right to left: the result may not depend on the order.
+      for (int pass = 0; pass < 2; ++pass)
+        for (int32_t i = 0; i < 320; ++i) {
+          const int32_t x = pass == 0 ? i : 319 - i;
+          int32_t got[2];
+          ml::texture_uv(p, x, y, got);
+          ml::ExactUv exact, a, b;
+          ml::exact_texture_uv(p, x, y, &exact);
+          const int32_t x0 = x & ~(ml::kTextureSegment - 1);
+          ml::exact_texture_uv(p, x0, y, &a);
+          ml::exact_texture_uv(p, x0 + ml::kTextureSegment, y, &b);
+          ++samples;
+          if (got[0] != exact.uv[0] || got[1] != exact.uv[1]) ++affine;
+          const double size[2] = {double(c.width), double(c.height)};
+          double step = 0;
+          for (int k = 0; k < 2; ++k)
+            step = std::max(step, std::fabs(double(b.uv[k]) - a.uv[k]) * size[k] / 65536 / ml::kTextureSegment);
+          const double bound = std::max(std::ldexp(1.0, -c.error_bits), std::ldexp(step, -ml::kTextureAffineShiftBits));
+          for (int k = 0; k < 2; ++k) {
+            // In texels; the floors of the ends and of the interpolation add at most 2 units of 2^-16.
+            const double err = std::fabs(double(got[k]) - exact.uv[k]) * size[k] / 65536;
+            ASSERT_LE(err, bound + 3 * size[k] / 65536)
+                << "case " << n << " sample " << x << "," << y << " axis " << k << " step " << step;
+          }
+        }
+    }
+  }
+  EXPECT_GT(affine, samples / 4);  // most samples are interpolated, not divided
+}
+
+// A texture of random bytes in format f (any bytes are valid: palette indices past the palette read
+// its last colour).
+struct RandomTexture {
+  ml::TextureTexels t{};
+  std::vector<uint8_t> bytes;
+  RandomTexture(std::mt19937& rng, ml::TexelFormat f, uint32_t width, uint32_t height) {
+    t.width = uint16_t(width);
+    t.height = uint16_t(height);
+    t.format = uint8_t(f);
+    t.palette_size = f == ml::TexelFormat::Palette8 ? uint16_t(1 + rng() % 256) : 0;
+    t.bytes = ml::texture_bytes(f, width, height, t.palette_size);
+    t.wrap_s = uint8_t(rng() % 3);
+    t.wrap_t = uint8_t(rng() % 3);
+    t.filter = uint8_t(rng() % 2 ? ml::TextureFilter::Bilinear : ml::TextureFilter::Nearest);
+    bytes.resize(t.bytes);
+    for (uint8_t& b : bytes) b = uint8_t(rng());
+  }
+};
+
+TEST(TextureMapping, RowsGiveTheColoursSampleBySample) {
+  std::mt19937 rng(7);
+  const ml::TexelFormat formats[] = {ml::TexelFormat::Rgb565, ml::TexelFormat::Palette8, ml::TexelFormat::Grey4};
+  size_t compared = 0;
+  for (int n = 0; n < 120; ++n) {
+    const Case c = random_case(rng);
+    const RandomTexture tex(rng, formats[n % 3], c.width, c.height);
+    const ml::Pixel colour = n % 4 == 0 ? 0xFFFFFF : ml::Pixel(rng() & 0xFFFFFF);
+    const int error_bits = tex.t.filter == uint8_t(ml::TextureFilter::Bilinear) ? ml::kTextureAffineErrorBitsBilinear
+                                                                                  : ml::kTextureAffineErrorBitsNearest;
+    ml::TexturePlanes rows, one;
+    ml::make_texture_planes(c.view, c.world, c.uv, 1, ml::kSubpixelHalf, ml::kSubpixelHalf, c.width, c.height,
+                            error_bits, &rows);
+    one = rows;
+    std::vector<ml::Pixel> tinted(ml::kTexelLutEntries), white(ml::kTexelLutEntries);
+    ml::make_texel_lut(tex.t, tex.bytes.data(), colour, tinted.data());
+    ml::make_texel_lut(tex.t, tex.bytes.data(), 0xFFFFFF, white.data());
+    for (int32_t y = 3; y < 240; y += 41) {
+      // Spans of random lengths and starts, as the renderers' blocks and runs come.
+      for (int32_t x = 0; x < 320;) {
+        const int32_t len = std::min<int32_t>(320 - x, 1 + int32_t(rng() % 70));
+        const int table = int(rng() % 3);  // none, the colour's, white (nearest only)
+        const bool bilinear = tex.t.filter == uint8_t(ml::TextureFilter::Bilinear);
+        const ml::Pixel* lut = table == 0 ? nullptr : (table == 1 || bilinear ? tinted.data() : white.data());
+        const ml::Pixel lut_colour = table == 2 && !bilinear ? 0xFFFFFF : colour;
+        std::vector<ml::Pixel> got(size_t(len), 0);
+        ml::texture_row(rows, tex.t, tex.bytes.data(), lut, lut_colour, colour, x, y, len, got.data());
+        for (int32_t i = 0; i < len; ++i) {
+          int32_t uv[2];
+          ml::texture_uv(one, x + i, y, uv);
+          ASSERT_EQ(got[size_t(i)], ml::sample_texture(tex.t, tex.bytes.data(), uv, colour))
+              << "case " << n << " sample " << x + i << "," << y << " table " << table << " format "
+              << int(tex.t.format) << " filter " << int(tex.t.filter);
+          ++compared;
+        }
+        x += len;
+      }
+    }
+  }
+  EXPECT_GT(compared, 100000u);
+}
+
+}  // namespace
