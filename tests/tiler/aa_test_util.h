@@ -27,9 +27,11 @@ struct Image {
   std::vector<ml::Pixel> pixels;
 };
 
-inline Image render_with(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o) {
+// spare: the arena holds render_spare_bytes more (the tiler then plans its bands once).
+inline Image render_with(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o,
+                         bool spare = false) {
   Image out;
-  const size_t bytes = ml::render_arena_bytes(scene, camera, o);
+  const size_t bytes = ml::render_arena_bytes(scene, camera, o) + (spare ? ml::render_spare_bytes(scene, camera, o) : 0);
   std::vector<uint64_t> storage(bytes / 8 + 1);
   ml::Arena arena(storage.data(), bytes);
   mlhost::ImageSink sink;

@@ -148,11 +148,18 @@ TEST(TilerCosine, BandHeightsGiveTheSameImage) {
       SCOPED_TRACE("aa " + std::to_string(f) + (shading == ml::ShadingMode::Flat ? " flat" : " gouraud"));
       const Image whole = render_cosine(s.scene, camera, f, shading, 0);
       ASSERT_TRUE(whole.ok) << whole.error;
-      for (int rows : {1, 2, 3, 16}) {
-        const Image banded = render_cosine(s.scene, camera, f, shading, rows);
-        ASSERT_TRUE(banded.ok) << banded.error;
-        EXPECT_EQ(banded.pixels, whole.pixels) << rows << "-row bands";
-      }
+      for (int rows : {1, 2, 3, 16})
+        for (bool plan : {false, true}) {  // with the band plan too (the halo's rows are planned)
+          ml::RenderOptions o;
+          o.shading = shading;
+          o.aa = f;
+          o.filter = ml::FilterKind::Cosine;
+          o.background = kBackground;
+          o.output.band_rows = rows;
+          const Image banded = render_with(s.scene, camera, o, plan);
+          ASSERT_TRUE(banded.ok) << banded.error;
+          EXPECT_EQ(banded.pixels, whole.pixels) << rows << "-row bands" << (plan ? ", planned" : "");
+        }
       const Image packed = render_cosine(s.scene, camera, f, shading, 5, ml::PixelFormat::Rgb565Be);
       EXPECT_TRUE(packed.ok) << packed.error;
       const Image box = render_colour(s.scene, camera, ml::RendererKind::Tiler, f, shading, 0);
