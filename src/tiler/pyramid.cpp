@@ -45,21 +45,23 @@ bool Pyramid::allocate(const PyramidLayout& l, Arena& arena) {
 }
 
 // Bits of an 8x8 mask whose subcells (side 2^sub samples, mask origin x0, y0) lie wholly or partly
-// off screen: a subcell is off screen by its column or by its row, so eight of each decide.
+// off screen: a subcell is wholly off when its column or its row is, partly when neither is but its
+// column or row crosses the screen edge. Columns and rows are classified once each (16 tests, not 64).
 static void offscreen_bits(int x0, int y0, int sub, int width, int height, uint64_t* wholly,
                            uint64_t* partly) {
   const int q = 1 << sub;
-  uint64_t cols_whole = 0, cols_part = 0, rows_whole = 0, rows_part = 0;
+  uint32_t col_off = 0, col_cut = 0;
+  uint64_t row_off = 0, row_cut = 0;
   for (int i = 0; i < 8; ++i) {
     const int x = x0 + i * q, y = y0 + i * q;
-    if (x >= width) cols_whole |= uint64_t(1) << i;
-    else if (x + q > width) cols_part |= uint64_t(1) << i;
-    if (y >= height) rows_whole |= uint64_t(0xFF) << (8 * i);
-    else if (y + q > height) rows_part |= uint64_t(0xFF) << (8 * i);
+    if (x >= width) col_off |= 1u << i;
+    else if (x + q > width) col_cut |= 1u << i;
+    if (y >= height) row_off |= uint64_t(0xFF) << (8 * i);
+    else if (y + q > height) row_cut |= uint64_t(0xFF) << (8 * i);
   }
   constexpr uint64_t kEveryRow = 0x0101010101010101u;
-  *wholly = cols_whole * kEveryRow | rows_whole;
-  *partly = (cols_part * kEveryRow | rows_part) & ~*wholly;
+  *wholly = col_off * kEveryRow | row_off;
+  *partly = (col_cut * kEveryRow | row_cut) & ~*wholly;
 }
 
 void Pyramid::clear() {

@@ -102,9 +102,10 @@ class EdgeRows {
       *r += d_;
     }
   }
-  bool lower_ = false;
-  int32_t d_ = 0, q_ = 0, r_ = 0, step_q_ = 0, step_r_ = 0;
-  int32_t e_ = 0, step_e_ = 0;
+  // Set by start() (no initializers: an array of steppers would be cleared by a memset each call).
+  bool lower_;
+  int32_t d_, q_, r_, step_q_, step_r_;
+  int32_t e_, step_e_;
 };
 
 // Boxes up to this many samples a side take the row-by-row path: they touch at most 5 x 5 finest
@@ -124,18 +125,26 @@ enum class SmallSetup : uint8_t { Ready, Outside, TooLarge };
 // The row steppers of the edges that cross the box [x0, x1] x [y0, y1] (samples of `pitch`
 // subpixels); edges with the whole box inside are dropped.
 SmallSetup small_edges(const ConvexPoly& poly, int32_t pitch, EdgeRows* rows, int* count) {
-  const int64_t half = pitch / 2;
-  const int64_t x0 = poly.min_x * int64_t(pitch) + half, y0 = poly.min_y * int64_t(pitch) + half;
-  const int64_t w = (poly.max_x - poly.min_x) * int64_t(pitch), h = (poly.max_y - poly.min_y) * int64_t(pitch);
+  // Sample centres and box sides below 2^21 subpixels (the screen), so with |a|, |b| < 2^23 (checked;
+  // src/view keeps them there) every product is a 32-by-32-bit one: one instruction on a Cortex-M3.
+  constexpr int32_t kStepLimit = int32_t(1) << 23;
+  const int32_t half = pitch / 2;
+  const int32_t x0 = poly.min_x * pitch + half, y0 = poly.min_y * pitch + half;
+  const int32_t w = (poly.max_x - poly.min_x) * pitch, h = (poly.max_y - poly.min_y) * pitch;
   *count = 0;
   for (int i = 0; i < poly.n; ++i) {
     const EdgeFunction& e = poly.edge[i];
-    const int64_t k0 = e.at(x0, y0), k1 = k0 + e.a * w, k2 = k0 + e.b * h, k3 = k1 + e.b * h;
-    const int64_t lo = min_of(min_of(k0, k1), min_of(k2, k3)), hi = max_of(max_of(k0, k1), max_of(k2, k3));
+    if (abs64(e.a) >= kStepLimit || abs64(e.b) >= kStepLimit) return SmallSetup::TooLarge;
+    const int32_t a = int32_t(e.a), b = int32_t(e.b);
+    // A linear function's extremes over the box: its value at x0, y0 plus the negative (positive) steps.
+    const int64_t k0 = int64_t(a) * x0 + int64_t(b) * y0 + e.c;
+    const int64_t aw = int64_t(a) * w, bh = int64_t(b) * h;
+    const int64_t lo = k0 + (aw < 0 ? aw : 0) + (bh < 0 ? bh : 0);
+    const int64_t hi = k0 + (aw > 0 ? aw : 0) + (bh > 0 ? bh : 0);
     if (hi < 0) return SmallSetup::Outside;
     if (lo >= 0) continue;
-    if (!rows_fit(lo, hi, e.a * pitch, e.b * pitch)) return SmallSetup::TooLarge;
-    rows[(*count)++].start(int32_t(k0), int32_t(e.a * pitch), int32_t(e.b * pitch));
+    if (!rows_fit(lo, hi, int64_t(a) * pitch, int64_t(b) * pitch)) return SmallSetup::TooLarge;
+    rows[(*count)++].start(int32_t(k0), a * pitch, b * pitch);
   }
   return SmallSetup::Ready;
 }
@@ -320,7 +329,8 @@ bool HierTiler::tile_cell(int level, int mx, int my, const Edges& in, CoverageWr
   a &= box_bits(level, mx, my);  // conservative masks may call subcells beside the box active
   const int64_t q = int64_t(pitch_) << (s - 3);
   const bool child_finest = level + 1 == lay.finest();
-  Edges child = act;  // same edges; at_subcell moves their values to each child's corner
+  Edges child;  // same edges; at_subcell moves their values to each child's corner
+  child.copy_steps(act);
   while (a != 0) {
     const int bit = __builtin_ctzll(a);
     a &= a - 1;
@@ -455,6 +465,15 @@ bool HierTiler::covered_above(int level, int mx, int my) const {
   return false;
 }
 
+// The samples of finest block (bx, by) inside the polygon's sample box (box_bits at the finest level,
+// without the level arithmetic).
+inline uint64_t block_box(const ConvexPoly& poly, int bx, int by) {
+  const int c0 = max_of(0, poly.min_x - bx * 8), c1 = min_of(7, poly.max_x - bx * 8);
+  const int r0 = max_of(0, poly.min_y - by * 8), r1 = min_of(7, poly.max_y - by * 8);
+  const uint32_t byte = (0xFFu >> (7 - c1)) & (0xFFu << c0);
+  return (uint64_t(byte) * 0x0101010101010101u) & (kAll >> (8 * (7 - r1))) & (kAll << (8 * r0));
+}
+
 // The hierarchy costs a small polygon more than it saves: its coverage comes row by row from the
 // edge functions (EdgeRows), is gathered into the finest blocks the box touches, and only samples
 // not yet covered there are written. False (nothing done) when the edges are too long for 32-bit
@@ -465,6 +484,9 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
   const int nx = (poly.max_x >> 3) - cx0 + 1, ny = (poly.max_y >> 3) - cy0 + 1;
   // Samples already covered in each touched block (all, when an ancestor is covered).
   uint64_t done[kSmallBoxBlocks][kSmallBoxBlocks];
+  // The polygon's samples in each block; only the nx x ny blocks in use are cleared (with the whole
+  // array cleared, a memset of 200 bytes a call).
+  uint64_t cover[kSmallBoxBlocks][kSmallBoxBlocks];
   bool open = false;
   // Blocks share their parent's ancestors (at most 2 x 2 parents): those are looked up once a parent.
   int parent_x = -1, parent_y = -1;
@@ -480,7 +502,9 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
       const uint64_t bit = uint64_t(1) << ((by & 7) * 8 + (bx & 7));
       const bool hidden = parent_hidden || (pyr_->mask(f - 1, parent_x, parent_y).c & bit) != 0;
       done[j][i] = hidden ? kAll : pyr_->block(bx, by);
-      open = open || (box_bits(f, cx0 + i, cy0 + j) & ~done[j][i]) != 0;
+      cover[j][i] = 0;
+      // The box holds samples of every block it touches: an empty block is open without its box bits.
+      open = open || done[j][i] == 0 || (done[j][i] != kAll && (block_box(poly, bx, by) & ~done[j][i]) != 0);
     }
   *result = TileResult::Hidden;
   if (!open) return true;
@@ -490,7 +514,6 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
   if (setup == SmallSetup::TooLarge) return false;
   *result = TileResult::Tiled;
   if (setup == SmallSetup::Outside) return true;
-  uint64_t cover[kSmallBoxBlocks][kSmallBoxBlocks] = {};
   const uint32_t all = (uint32_t(2) << (poly.max_x - poly.min_x)) - 1;
   for (int y = poly.min_y; y <= poly.max_y; ++y) {
     uint32_t row = all;
@@ -498,9 +521,15 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
       row &= rows[i].mask(all);
       rows[i].next_row();
     }
-    const uint64_t placed = uint64_t(row) << (poly.min_x & 7);
+    if (row == 0) continue;
+    // The row placed at its column in the blocks: bytes of (row << s), in 32-bit halves.
+    const int s = poly.min_x & 7;
+    const uint32_t low = row << s, high = s == 0 ? 0 : row >> (32 - s);
     const int j = (y >> 3) - cy0, shift = (y & 7) * 8;
-    for (int i = 0; i < nx; ++i) cover[j][i] |= ((placed >> (8 * i)) & 0xFF) << shift;
+    for (int i = 0; i < nx; ++i) {
+      const uint32_t byte = (i < 4 ? low >> (8 * i) : high) & 0xFFu;
+      if (byte != 0) cover[j][i] |= uint64_t(byte) << shift;
+    }
   }
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
@@ -510,8 +539,12 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
       ++cells_visited;
       if (work_) add_work(f, bx, by);
       if (w == 0) continue;
-      pyr_->block(bx, by) |= w;
-      propagate_up(f, bx, by);
+      uint64_t& block = pyr_->block(bx, by);
+      const bool was_empty = block == 0;
+      block |= w;
+      // The ancestors change only when the block stops being empty or becomes full (a block already
+      // partly covered has cleared its vacant bit up the tree before).
+      if (was_empty || block == kAll) propagate_up(f, bx, by);
       if (!writer.write_block(w, bx << 3, by << 3)) {
         *result = TileResult::Failed;
         return true;

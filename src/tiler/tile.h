@@ -107,6 +107,14 @@ class HierTiler {
     int64_t a[kMaxPolyEdges], b[kMaxPolyEdges];
     int64_t e[kMaxPolyEdges];  // value at the cell's top-left corner
 
+    // n, a and b of `cell` (the edges in use only: a whole copy is a memcpy of every slot).
+    void copy_steps(const Edges& cell) {
+      n = cell.n;
+      for (int i = 0; i < n; ++i) {
+        a[i] = cell.a[i];
+        b[i] = cell.b[i];
+      }
+    }
     // This cell's edges (same n, a, b) at the top-left corner of subcell (col, row) of `cell`,
     // whose subcells are q subpixels wide.
     void at_subcell(const Edges& cell, int64_t q, int col, int row) {

@@ -196,14 +196,14 @@ int triangle_facing(const View& view, const Vec3i world[3]) {
   // Edges and eye offset are below 2^25 (world points below 2^24), the cross product below 2^51 and
   // the triple product below 2^78: too wide for int64. Split each cross component c into
   // hi * 2^24 + lo with lo in [0, 2^24); the two partial dot products stay below 2^54.
-  const int64_t e1[3] = {int64_t(world[1].x) - world[0].x, int64_t(world[1].y) - world[0].y,
-                         int64_t(world[1].z) - world[0].z};
-  const int64_t e2[3] = {int64_t(world[2].x) - world[0].x, int64_t(world[2].y) - world[0].y,
-                         int64_t(world[2].z) - world[0].z};
-  const int64_t r[3] = {int64_t(view.eye.x) - world[0].x, int64_t(view.eye.y) - world[0].y,
-                        int64_t(view.eye.z) - world[0].z};
-  const int64_t cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                            e1[0] * e2[1] - e1[1] * e2[0]};
+  // The differences fit 32 bits (|world| < 2^24), so the cross products are 32-by-32-bit multiplies
+  // (one instruction each on a Cortex-M3, where a 64-by-64-bit one takes three).
+  const int32_t e1[3] = {world[1].x - world[0].x, world[1].y - world[0].y, world[1].z - world[0].z};
+  const int32_t e2[3] = {world[2].x - world[0].x, world[2].y - world[0].y, world[2].z - world[0].z};
+  const int32_t r[3] = {view.eye.x - world[0].x, view.eye.y - world[0].y, view.eye.z - world[0].z};
+  auto mul = [](int32_t a, int32_t b) { return int64_t(a) * b; };
+  const int64_t cross[3] = {mul(e1[1], e2[2]) - mul(e1[2], e2[1]), mul(e1[2], e2[0]) - mul(e1[0], e2[2]),
+                            mul(e1[0], e2[1]) - mul(e1[1], e2[0])};
   // The common case (triangles small against the world, eye not too far): every product is below
   // 2^61 and the plain sum fits.
   constexpr int64_t c_limit = (int64_t(1) << 36) - 1, r_limit = (int64_t(1) << 25) - 1;
