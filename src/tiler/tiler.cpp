@@ -547,6 +547,64 @@ bool band_layout(int width, int samples, int factor, PyramidLayout* out) {
   return make_pyramid_layout(clamp_to(width, 1, kMaxScreenDim) * factor, clamp_to(samples, 1, kMaxSampleDim), out);
 }
 
+// When each texture is needed next in the tiler's order of work: bands top to bottom, each walking
+// the BSP front to back — the same walk in every band, so pieces are numbered once. Planned before
+// drawing (the textured triangles' rows, one walk of the whole BSP for each texture's first and last
+// piece), it lets the pager evict the texture needed last, as the scanline renderer's evictions
+// follow its active triangles.
+class TexturePlan : public TextureNextUse {
+ public:
+  static size_t arena_bytes(const Scene& scene) {
+    return 4 * arena_worst_case(sizeof(uint32_t) * scene.texture_texels_count, 4);
+  }
+  bool allocate(const Scene& scene, Arena& arena) {
+    count_ = scene.texture_texels_count;
+    first_piece_ = arena.allocate_array<uint32_t>(count_);
+    last_piece_ = arena.allocate_array<uint32_t>(count_);
+    first_row_ = arena.allocate_array<uint32_t>(count_);
+    last_row_ = arena.allocate_array<uint32_t>(count_);
+    if (!first_piece_ || !last_piece_ || !first_row_ || !last_row_) return false;
+    for (uint32_t t = 0; t < count_; ++t) {
+      first_piece_[t] = first_row_[t] = kNone;
+      last_piece_[t] = last_row_[t] = 0;
+    }
+    return true;
+  }
+  void rows(uint32_t t, uint32_t first, uint32_t last) {
+    first_row_[t] = min_of(first_row_[t], first);
+    last_row_[t] = max_of(last_row_[t], last);
+  }
+  void piece(uint32_t t, uint32_t k) {
+    first_piece_[t] = min_of(first_piece_[t], k);
+    last_piece_[t] = max_of(last_piece_[t], k);
+  }
+  // Where the work is: band `band` of `band_rows` rows (pixels [top, top + rows)), piece k of the walk.
+  void at_band(int band, int band_rows, int top, int rows) {
+    band_ = uint32_t(band);
+    band_rows_ = uint32_t(band_rows);
+    top_ = uint32_t(top);
+    end_ = uint32_t(top + rows);
+    k_ = 0;
+  }
+  void at_piece(uint32_t k) { k_ = k; }
+
+  uint64_t next_use(uint32_t t) const override {
+    if (t >= count_ || first_piece_[t] == kNone || first_row_[t] == kNone || last_row_[t] < top_) return kNever;
+    if (first_row_[t] >= end_) return when(first_row_[t] / band_rows_, first_piece_[t]);  // a later band
+    if (k_ <= last_piece_[t]) return when(band_, max_of(k_, first_piece_[t]));            // later in this band
+    return last_row_[t] >= end_ ? when(band_ + 1, first_piece_[t]) : kNever;             // the next band
+  }
+
+ private:
+  static uint64_t when(uint32_t band, uint32_t k) { return (uint64_t(band) << 32) | k; }
+  uint32_t count_ = 0;
+  uint32_t* first_piece_ = nullptr;
+  uint32_t* last_piece_ = nullptr;
+  uint32_t* first_row_ = nullptr;
+  uint32_t* last_row_ = nullptr;
+  uint32_t band_ = 0, band_rows_ = 1, top_ = 0, end_ = 0, k_ = 0;
+};
+
 // The band plan, made when the arena has room for one byte a BSP piece (tiler_plan_bytes): the bands
 // each piece can reach, worked out on its first visit in any band (triangle_row_span, exactly the
 // per-band test) together with its facing. Later bands then skip the piece from one byte, without
@@ -600,8 +658,13 @@ class TilerFrame {
   Status draw_piece(uint32_t index);
   // The plan byte of a piece facing the eye, from its world vertices.
   uint8_t plan_bands(const Vec3i world[3]) const;
-  // Plans each texture's last pixel row from the textured triangles' projected extent.
+  // Plans each texture's rows from the textured triangles' projected extent, and its first and last
+  // piece in the BSP walk (TexturePlan).
   void plan_textures();
+  // The next node of a front-to-back walk from the frame on top of the stack (its near side first);
+  // false when the walk is over. Shared by the drawing walk and the plan's.
+  uint32_t near_of(const BspNode& node) const;
+  uint32_t far_of(const BspNode& node) const;
   Status finish(Status s, const Arena& arena) {
     st_->peak_arena_bytes = uint32_t(arena.peak());
     return s;
@@ -624,6 +687,7 @@ class TilerFrame {
   BspFrame* stack_ = nullptr;
   size_t stack_cap_ = 0;
   TexturePager pager_;
+  TexturePlan texture_plan_;
 };
 
 Status TilerFrame::run(Arena& arena, Sink& sink) {
@@ -635,6 +699,8 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
   if (options_.shading != ShadingMode::Ids) {
     const Status t = pager_.begin(scene_, options_.texture_source, options_.texture_pool_bytes, arena, st_);
     if (!t.ok()) return finish(error(t.code, t.message, need), arena);
+    if (pager_.active() && !texture_plan_.allocate(scene_, arena))
+      return finish(error(StatusCode::ArenaTooSmall, "arena too small", need), arena);
     plan_textures();
   }
   TextureSegment* segment_rows = nullptr;
@@ -691,6 +757,7 @@ Status TilerFrame::render_band(int band, Arena& arena) {
   tiler_.init(&pyramid_, kSubpixelOne / band_.factor, options_.work, band_.top);
   writer_->begin_band(band_.top, band_.rows);
   if (uses_cosine(options_)) cosine_->begin_band(band_.top, out_.band_height(band));
+  texture_plan_.at_band(band, out_.band_rows(), band_.top, band_.rows);
   s = walk_bsp();
   if (!s.ok()) return s;
   writer_->begin_background(options_.shading == ShadingMode::Ids ? 0 : options_.background);
@@ -716,13 +783,51 @@ void TilerFrame::plan_textures() {
     if (facing == 0 || (facing < 0 && !mat.double_sided)) continue;
     ScreenTriangle parts[kMaxClipTriangles];
     const int n = project_triangle(view_, world, facing, parts, false);
-    int32_t last = -1;
+    int32_t first = INT32_MAX, last = -1;
     for (int i = 0; i < n; ++i)
-      for (int j = 0; j < 3; ++j) last = max_of(last, parts[i].v[j].y);
+      for (int j = 0; j < 3; ++j) {
+        first = min_of(first, parts[i].v[j].y);
+        last = max_of(last, parts[i].v[j].y);
+      }
+    if (n == 0 || last < 0) continue;
     // BSP pieces are quantized split points of the triangle: a pixel of margin covers them.
-    if (n > 0 && last >= 0) pager_.plan(texture, uint32_t(min_of(last / kSubpixelOne + 1, camera_.height - 1)));
+    const uint32_t last_row = uint32_t(min_of(last / kSubpixelOne + 1, camera_.height - 1));
+    pager_.plan(texture, last_row);
+    texture_plan_.rows(texture, uint32_t(max_of(first / kSubpixelOne - 1, 0)), last_row);
   }
   pager_.finish_plan();
+  // The walk's order, once for the frame: each texture's first and last piece.
+  size_t sp = 0;
+  uint32_t k = 0, visits = 0;
+  stack_[sp++] = 0;
+  while (sp > 0 && ++visits <= 2 * scene_.bsp_node_count) {  // a malformed BSP: walk_bsp reports it
+    BspFrame& f = stack_[sp - 1];
+    const uint32_t index = f & ~kNearDone;
+    if (index >= scene_.bsp_node_count) break;
+    const BspNode node = bsp_node(scene_, index);
+    if (!(f & kNearDone)) {
+      f |= kNearDone;
+      if (near_of(node) != kNone && sp < stack_cap_) stack_[sp++] = near_of(node);
+      continue;
+    }
+    for (uint32_t p = node.first_piece; p < node.first_piece + node.piece_count; ++p, ++k) {
+      const uint32_t texture = triangle_texture(scene_, bsp_piece(scene_, p).triangle);
+      if (texture != kNone) texture_plan_.piece(texture, k);
+    }
+    if (far_of(node) != kNone) f = far_of(node); else --sp;
+  }
+  pager_.use_next_use(&texture_plan_);
+}
+
+uint32_t TilerFrame::near_of(const BspNode& node) const {
+  const int64_t side = int64_t(node.normal[0]) * view_.eye.x + int64_t(node.normal[1]) * view_.eye.y +
+                       int64_t(node.normal[2]) * view_.eye.z - node.d;
+  return side >= 0 ? node.front : node.back;
+}
+
+uint32_t TilerFrame::far_of(const BspNode& node) const {
+  const uint32_t near = near_of(node);
+  return near == node.front ? node.back : node.front;
 }
 
 Status TilerFrame::walk_bsp() {
@@ -739,10 +844,7 @@ Status TilerFrame::walk_bsp() {
     const uint32_t index = f & ~kNearDone;
     if (index >= scene_.bsp_node_count) return error(StatusCode::BadScene, "BSP child out of range");
     const BspNode node = bsp_node(scene_, index);
-    const int64_t side = int64_t(node.normal[0]) * view_.eye.x + int64_t(node.normal[1]) * view_.eye.y +
-                         int64_t(node.normal[2]) * view_.eye.z - node.d;
-    const uint32_t near = side >= 0 ? node.front : node.back;
-    const uint32_t far = side >= 0 ? node.back : node.front;
+    const uint32_t near = near_of(node), far = far_of(node);
     if (!(f & kNearDone)) {
       if (node.subtree_pieces >= cull_min && subtree_hidden(node)) {
         // Every piece below is hidden (or outside the band).
@@ -760,7 +862,7 @@ Status TilerFrame::walk_bsp() {
       continue;
     }
     for (uint32_t p = node.first_piece; p < node.first_piece + node.piece_count; ++p) {
-      ++pieces_done;
+      texture_plan_.at_piece(pieces_done++);
       const Status s = draw_piece(p);
       if (!s.ok()) return s;
       if (writer_->wrote_piece()) ++st_->triangles_drawn; else ++st_->triangles_culled;
@@ -875,7 +977,8 @@ size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderO
   const int rows = band_rows_for(options.output, height), factor = clamp_to(sample_factor(options), 1, kMaxTilerAa);
   if (!band_layout(width, tiled_samples(options, 0, rows, height), factor, &layout)) return 0;
   const size_t pager = options.shading == ShadingMode::Ids ? 0 : TexturePager::arena_bytes(scene, options.texture_pool_bytes);
-  return pager + segment_rows_bytes(pager) + Pyramid::arena_bytes(layout) + sums_arena_bytes(options, width, rows) +
+  return pager + segment_rows_bytes(pager) + (pager ? TexturePlan::arena_bytes(scene) : 0) + Pyramid::arena_bytes(layout) +
+         sums_arena_bytes(options, width, rows) +
          arena_worst_case(sizeof(BspFrame) * bsp_stack_entries(scene), 4) +
          arena_worst_case(sizeof(Pixel) * kRowPixels, 4) +
          BandOutput::arena_bytes(options.output, width, height);
