@@ -83,7 +83,9 @@ const char* const kRenderHelp =
     "  --renderer tiler|scanline   visibility algorithm (default tiler)\n"
     "  --size WxH                  image size in pixels, 1..4096 each (default 320x240)\n"
     "  --aa N                      N x N samples per pixel (default 1): scanline 1..8, tiler 1, 2, 4\n"
-    "                              or 8 (box filter over a regular grid)\n"
+    "                              or 8 (on a regular grid)\n"
+    "  --filter box|cosine         tiler with --aa 2, 4 or 8: the mean of a pixel's own samples (box,\n"
+    "                              default) or a cosine-hump kernel over the 3x3 pixels around it\n"
     "  --shading unlit|flat|gouraud|lines\n"
     "                              base colours; + one directional light; per-vertex lighting;\n"
     "                              hidden-line drawing (scanline only). Default flat\n"
@@ -462,7 +464,7 @@ int cmd_info(int argc, char** argv) {
 const std::vector<std::string> kRenderValued = {"--renderer", "--size", "--aa", "--eye", "--target", "--up",
                                                 "--fov", "--near", "--shading", "--seed", "--background",
                                                 "--arena", "--format", "--dither", "--band-rows", "--buffers",
-                                                "--texture-pool", "--texture-source"};
+                                                "--texture-pool", "--texture-source", "--filter"};
 
 struct RenderArgs {
   ml::RenderOptions opt;
@@ -480,7 +482,11 @@ bool parse_render_option(const std::string& n, const std::string& v, RenderArgs*
   if (n == "--renderer") opt.renderer = parse_renderer(v);
   else if (n == "--size") { parse_size(v, &r->width, &r->height); r->has_size = true; }
   else if (n == "--aa") opt.aa = int(parse_integer(n, v, 1, 8));
-  else if (n == "--eye") { parse_vec3(n, v, cam.eye); cam.has_eye = true; }
+  else if (n == "--filter") {
+    if (v == "box") opt.filter = ml::FilterKind::Box;
+    else if (v == "cosine") opt.filter = ml::FilterKind::Cosine;
+    else usage_error("--filter: expected box or cosine, got '" + v + "'");
+  } else if (n == "--eye") { parse_vec3(n, v, cam.eye); cam.has_eye = true; }
   else if (n == "--target") { parse_vec3(n, v, cam.target); cam.has_target = true; }
   else if (n == "--up") { parse_vec3(n, v, cam.up); cam.has_up = true; }
   else if (n == "--fov") {
@@ -526,6 +532,8 @@ void finish_render_args(RenderArgs* r) {
   const int aa = r->opt.aa;
   if (tiler && aa != 1 && aa != 2 && aa != 4 && aa != 8)
     usage_error("--aa: the tiler takes 1, 2, 4 or 8 samples per pixel per axis (or use --renderer scanline)");
+  if (r->opt.filter == ml::FilterKind::Cosine && (!tiler || aa == 1))
+    usage_error("--filter cosine: needs the tiler and --aa 2, 4 or 8");
   if (!r->has_dither) r->opt.output.dither = ml::format_dithers_by_default(r->opt.output.format);
 }
 

@@ -14,6 +14,11 @@ constexpr uint32_t kTexturePoolAll = 0xFFFFFFFFu;
 
 enum class RendererKind : uint8_t { Tiler, Scanline };
 
+// How an antialiased pixel is made from its samples (the tiler, aa > 1): the mean of its own samples
+// (box, the A-buffer's), or a cosine-hump kernel one pixel in radius over the samples of the 3 x 3
+// pixels around it (tables/filter_tables.h, docs/tiler.md).
+enum class FilterKind : uint8_t { Box, Cosine };
+
 enum class ShadingMode : uint8_t {
   Unlit,    // base colour
   Flat,     // face normal, one directional light + ambient
@@ -42,7 +47,8 @@ struct OutputOptions {
 struct RenderOptions {
   RendererKind renderer = RendererKind::Tiler;
   ShadingMode shading = ShadingMode::Flat;
-  int aa = 1;                         // samples per pixel per axis (scanline: 1..8; tiler: 1)
+  int aa = 1;                         // samples per pixel per axis (scanline: 1..8; tiler: 1, 2, 4, 8)
+  FilterKind filter = FilterKind::Box;  // tiler, aa > 1
   Pixel background = 0x202830;        // 0x00RRGGBB; ignored (0) in Ids mode
   uint32_t seed = 1;                  // for stochastic choices (adaptive shading, jitter)
   WorkImage* work = nullptr;

@@ -32,6 +32,10 @@ size_t render_tiler_arena_bytes(const Scene& scene, const Camera& camera, const 
 size_t render_tiler_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
 Status render_tiler(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
                     Sink& sink, Stats* stats);
+// The tiler without its cosine-hump filter (options.filter = cosine is Unsupported): an image that
+// never asks for it calls this and links none of the filter's code and tables (about 18 KB of flash).
+Status render_tiler_box(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
+                        Sink& sink, Stats* stats);
 size_t render_scanline_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
 Status render_scanline(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
                        Sink& sink, Stats* stats);

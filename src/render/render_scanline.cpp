@@ -10,6 +10,9 @@ size_t render_scanline_arena_bytes(const Scene& scene, const Camera& camera, con
 
 Status render_scanline(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
                        Sink& sink, Stats* stats) {
+  // The scanline renderer filters with its own box over corner samples (docs/scanline.md).
+  if (options.filter != FilterKind::Box)
+    return error(StatusCode::Unsupported, "the filter option is the tiler's (the scanline renderer has its own)");
   return render_with(scanline_render, scene, camera, options, arena, sink, stats);
 }
 

@@ -1,9 +1,26 @@
-// The tiler's entry alone: an image that calls only this links no scanline code.
+// The tiler's entries alone: an image that calls only these links no scanline code, and one that
+// calls only render_tiler_box links no cosine-hump filter.
 #include "core/band.h"
 #include "render/entry.h"
+#include "tiler/filter.h"
 #include "tiler/tiler.h"
 
 namespace ml {
+
+namespace {
+
+Status tiler_with_filters(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
+                          Sink& sink, Stats* stats) {
+  CosineFilter cosine;
+  return tiler_render(scene, camera, options, arena, sink, stats, &cosine);
+}
+
+Status tiler_box_only(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
+                      Sink& sink, Stats* stats) {
+  return tiler_render(scene, camera, options, arena, sink, stats, nullptr);
+}
+
+}  // namespace
 
 size_t render_tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
   return tiler_arena_bytes(scene, camera, effective_options(options));
@@ -16,7 +33,12 @@ size_t render_tiler_spare_bytes(const Scene& scene, const Camera& camera, const 
 
 Status render_tiler(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
                     Sink& sink, Stats* stats) {
-  return render_with(tiler_render, scene, camera, options, arena, sink, stats);
+  return render_with(tiler_with_filters, scene, camera, options, arena, sink, stats);
+}
+
+Status render_tiler_box(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
+                        Sink& sink, Stats* stats) {
+  return render_with(tiler_box_only, scene, camera, options, arena, sink, stats);
 }
 
 }  // namespace ml

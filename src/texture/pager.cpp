@@ -132,18 +132,24 @@ void TexturePager::release(uint32_t t) {
   slots_[t].state = kAbsent;
 }
 
-// Evicts the resident texture (other than `keep`) needed least soon: one no active triangle uses
-// before one in use, the least recently sampled among equals. False when there is none.
+// Evicts the resident texture (other than `keep`) needed least soon: the one the renderer's next
+// uses put last, or one no active triangle uses before one in use; the least recently sampled among
+// equals. False when there is none.
 bool TexturePager::evict_one(uint32_t keep) {
   uint32_t victim = kNone;
+  uint64_t victim_next = 0;
   for (uint32_t i = 0; i < resident_count_; ++i) {
     const uint32_t t = resident_[i];
     if (t == keep) continue;
-    if (victim == kNone) { victim = t; continue; }
+    const uint64_t next = next_use_ ? next_use_->next_use(t) : 0;
+    if (victim == kNone) { victim = t; victim_next = next; continue; }
     const Slot& a = slots_[t];
     const Slot& b = slots_[victim];
     const bool a_idle = a.users == 0, b_idle = b.users == 0;
-    if (a_idle != b_idle ? a_idle : a.touch < b.touch) victim = t;
+    if (next != victim_next ? next > victim_next : (a_idle != b_idle ? a_idle : a.touch < b.touch)) {
+      victim = t;
+      victim_next = next;
+    }
   }
   if (victim == kNone) return false;
   release(victim);

@@ -2,8 +2,9 @@
 // in flight need. A texture is read through its TextureSource the first time a visible sample needs
 // it and freed after the last row that uses it (the renderer plans each texture's last row before
 // drawing and reports rows as they finish). When the pool has no room, resident textures are evicted
-// — first those no active triangle uses, then the least recently sampled — and read again if needed
-// later, so a frame never fails for lack of texture memory. A texture that cannot be read, or is
+// — the one the renderer needs last (TextureNextUse), or first those no active triangle uses, then
+// the least recently sampled — and read again if needed later, so a frame never fails for lack of
+// texture memory. A texture that cannot be read, or is
 // larger than the whole pool, is drawn in its material's colour (a fallback). docs/textures.md.
 #pragma once
 #include <stddef.h>
@@ -24,6 +25,14 @@ struct TexturePoolNeeds {
   uint32_t desired = 0, minimum = 0;
 };
 TexturePoolNeeds texture_pool_needs(const Scene& scene);
+
+// What a renderer knows about when each texture is needed next (the tiler: its BSP order), for the
+// pager's evictions: larger is later; kNever: not again this frame.
+class TextureNextUse {
+ public:
+  static constexpr uint64_t kNever = ~uint64_t(0);
+  virtual uint64_t next_use(uint32_t texture) const = 0;
+};
 
 class TexturePager {
  public:
@@ -54,6 +63,8 @@ class TexturePager {
   // Active triangles using t (the scanline renderer's yActiveList): used to choose evictions.
   void add_user(uint32_t t);
   void drop_user(uint32_t t);
+  // Or the renderer's own next uses (set after begin): the texture needed last is evicted first.
+  void use_next_use(const TextureNextUse* next) { next_use_ = next; }
 
   // Every row up to `row` is finished: frees the textures whose last row that was.
   void rows_done(uint32_t row);
@@ -101,6 +112,7 @@ class TexturePager {
   uint32_t* free_order_ = nullptr;  // textures by last row
   uint32_t next_free_ = 0;
   uint32_t clock_ = 0;
+  const TextureNextUse* next_use_ = nullptr;
   struct LutKey {
     uint32_t texture;  // kNone: empty
     Pixel colour;

@@ -8,6 +8,7 @@
 #include "texture/mapping.h"
 #include "texture/pager.h"
 #include "texture/sampler.h"
+#include "tiler/filter.h"
 #include "tiler/tile.h"
 
 namespace ml {
@@ -41,7 +42,7 @@ struct PixelSum {
 
 // Turns newly covered sample blocks (band-local rows) into band-buffer writes of the current piece's
 // colours. Colours are computed on the first write, so hidden pieces cost no shading.
-class BandWriter : public CoverageWriter {
+class BandWriter : public CoverageWriter, public SourceColours {
  public:
   BandWriter(BandOutput& out, Stats* stats, Pixel* row) : out_(out), stats_(stats), row_(row) {}
 
@@ -54,9 +55,11 @@ class BandWriter : public CoverageWriter {
     sums_ = sums;
     width_ = width;
   }
+  // The cosine-hump filter instead of the box (filter.h): masks go to it, per source pixel.
+  void use_filter(SampleFilter* filter) { cosine_ = filter; }
   void begin_band(int top, int rows) {
     top_ = top;
-    if (factor_ > 1)
+    if (factor_ > 1 && !cosine_)
       for (size_t i = 0; i < size_t(rows) * size_t(width_); ++i) sums_[i] = PixelSum{0, 0, 0, 0};
   }
   void begin_piece(const Scene* scene, const Light* light, ShadingMode mode, uint32_t triangle,
@@ -92,6 +95,10 @@ class BandWriter : public CoverageWriter {
 
   bool write(int x, int band_y, int w, int h) override {
     first_write();
+    if (cosine_) {
+      cosine_->add_samples(x, band_y, w, h, *this);
+      return true;
+    }
     if (factor_ > 1) {
       add_samples(x, band_y, w, h);
       return true;
@@ -102,6 +109,10 @@ class BandWriter : public CoverageWriter {
   bool write_block(uint64_t mask, int x, int band_y) override {
     if (factor_ == 1) return CoverageWriter::write_block(mask, x, band_y);
     first_write();
+    if (cosine_) {
+      cosine_->add_block(mask, x, band_y, *this);
+      return true;
+    }
     // The block holds (8 / f)^2 pixels of f x f samples each.
     const int f = factor_, per_side = 8 / f;
     for (int j = 0; j < per_side; ++j)
@@ -172,6 +183,13 @@ class BandWriter : public CoverageWriter {
     for (int c = 0; c < 3; ++c) ch[c] = uint32_t(clamp_to(planes_.channel[c].at(px, py), 0, 255));
     return rgb(ch[0], ch[1], ch[2]);
   }
+
+  // SourceColours, for the cosine filter.
+  bool flat(Pixel* c) override {
+    *c = colors_.flat;
+    return !colors_.smooth && texture_ == kNone;
+  }
+  Pixel colour_at(int px, int py) override { return color_at(px, py); }
 
   // Colour of the current piece (or the background) at pixel (px, py) of the frame, textured.
   Pixel color_at(int px, int py) {
@@ -267,6 +285,7 @@ class BandWriter : public CoverageWriter {
   int factor_ = 1, factor_bits_ = 0, width_ = 0;
   uint64_t pixel_mask_ = 0;
   PixelSum* sums_ = nullptr;
+  SampleFilter* cosine_ = nullptr;
   int top_ = 0;
   const Scene* scene_ = nullptr;
   const Light* light_ = nullptr;
@@ -451,13 +470,14 @@ void box_screen_rect(const View& view, const ViewBox& box, int32_t* x0, int32_t*
 // The rows of the screen one band covers: the pyramid holds only these, and polygons are moved into
 // band-local rows (E(x, y + top) folds top into c, so coverage is the screen's exactly).
 struct BandRows {
-  int top = 0, rows = 0;  // pixels
+  int top = 0, rows = 0;  // pixels: the band's own rows, and a partial row below for the cosine filter
   int factor = 1;         // samples a pixel per axis
+  int samples = 0;        // sample rows tiled: rows * factor, or the band's own and a halo (tiled_samples)
 
   // The band's part of a screen-space polygon's box (samples) in band rows, in box's box (its edges
   // untouched); false when the polygon has no row there.
   bool clip_box(const ConvexPoly& poly, ConvexPoly* box) const {
-    const int first = top * factor, count = rows * factor;
+    const int first = top * factor, count = samples;
     if (poly.max_y < first || poly.min_y >= first + count || poly.min_x > poly.max_x) return false;
     box->min_x = poly.min_x;
     box->max_x = poly.max_x;
@@ -483,14 +503,34 @@ int sample_factor(const RenderOptions& options) {
   return options.shading == ShadingMode::Ids ? 1 : options.aa;
 }
 
+bool uses_cosine(const RenderOptions& options) {
+  return sample_factor(options) > 1 && options.filter == FilterKind::Cosine;
+}
+
+// Sample rows tiled below a band's own (the halo): a cosine-filtered pixel needs the samples of its
+// neighbours within one pixel of its centre, so the band's last row needs the top half of the next
+// band's first row; what the band's last row gives the next band's first is carried (filter.h).
+int halo_samples(const RenderOptions& options) { return uses_cosine(options) ? sample_factor(options) / 2 : 0; }
+
+// Sample rows of a band of `rows` own pixel rows from `top`: its own, and the halo inside the frame.
+int tiled_samples(const RenderOptions& options, int top, int rows, int height) {
+  const int f = sample_factor(options);
+  return min_of(rows * f + halo_samples(options), (height - top) * f);
+}
+
 // Arena bytes of the antialiasing sums of one band.
-size_t sums_arena_bytes(int factor, int width, int rows) {
-  return factor > 1 ? arena_worst_case(sizeof(PixelSum) * size_t(width) * size_t(rows), alignof(PixelSum)) : 0;
+size_t sums_arena_bytes(const RenderOptions& options, int width, int rows) {
+  if (uses_cosine(options)) return arena_worst_case(sizeof(FilterSum) * CosineFilter::sums_count(width, rows), alignof(FilterSum));
+  return sample_factor(options) > 1
+             ? arena_worst_case(sizeof(PixelSum) * size_t(width) * size_t(rows), alignof(PixelSum))
+             : 0;
 }
 
 Status check_options(const Camera& camera, const RenderOptions& options) {
   if (options.aa != 1 && options.aa != 2 && options.aa != 4 && options.aa != 8)
     return error(StatusCode::Unsupported, "the tiler takes 1, 2, 4 or 8 samples a pixel per axis (aa)");
+  if (options.filter == FilterKind::Cosine && options.aa == 1 && options.shading != ShadingMode::Ids)
+    return error(StatusCode::Unsupported, "the cosine filter needs samples: aa 2, 4 or 8");
   if (options.shading == ShadingMode::Lines)
     return error(StatusCode::Unsupported, "the tiler has no hidden-line mode (use the scanline renderer)");
   if (camera.width < 1 || camera.height < 1 || camera.width > kMaxScreenDim ||
@@ -502,11 +542,68 @@ Status check_options(const Camera& camera, const RenderOptions& options) {
   return BandOutput::check(options.output);
 }
 
-// Pyramid layout of one band (the last band may be lower than the others), in samples.
-bool band_layout(int width, int rows, int factor, PyramidLayout* out) {
-  return make_pyramid_layout(clamp_to(width, 1, kMaxScreenDim) * factor,
-                             clamp_to(rows, 1, kMaxScreenDim) * factor, out);
+// Pyramid layout of one band (the last band may be lower than the others): width pixels, sample rows.
+bool band_layout(int width, int samples, int factor, PyramidLayout* out) {
+  return make_pyramid_layout(clamp_to(width, 1, kMaxScreenDim) * factor, clamp_to(samples, 1, kMaxSampleDim), out);
 }
+
+// When each texture is needed next in the tiler's order of work: bands top to bottom, each walking
+// the BSP front to back — the same walk in every band, so pieces are numbered once. Planned before
+// drawing (the textured triangles' rows, one walk of the whole BSP for each texture's first and last
+// piece), it lets the pager evict the texture needed last, as the scanline renderer's evictions
+// follow its active triangles.
+class TexturePlan : public TextureNextUse {
+ public:
+  static size_t arena_bytes(const Scene& scene) {
+    return 4 * arena_worst_case(sizeof(uint32_t) * scene.texture_texels_count, 4);
+  }
+  bool allocate(const Scene& scene, Arena& arena) {
+    count_ = scene.texture_texels_count;
+    first_piece_ = arena.allocate_array<uint32_t>(count_);
+    last_piece_ = arena.allocate_array<uint32_t>(count_);
+    first_row_ = arena.allocate_array<uint32_t>(count_);
+    last_row_ = arena.allocate_array<uint32_t>(count_);
+    if (!first_piece_ || !last_piece_ || !first_row_ || !last_row_) return false;
+    for (uint32_t t = 0; t < count_; ++t) {
+      first_piece_[t] = first_row_[t] = kNone;
+      last_piece_[t] = last_row_[t] = 0;
+    }
+    return true;
+  }
+  void rows(uint32_t t, uint32_t first, uint32_t last) {
+    first_row_[t] = min_of(first_row_[t], first);
+    last_row_[t] = max_of(last_row_[t], last);
+  }
+  void piece(uint32_t t, uint32_t k) {
+    first_piece_[t] = min_of(first_piece_[t], k);
+    last_piece_[t] = max_of(last_piece_[t], k);
+  }
+  // Where the work is: band `band` of `band_rows` rows (pixels [top, top + rows)), piece k of the walk.
+  void at_band(int band, int band_rows, int top, int rows) {
+    band_ = uint32_t(band);
+    band_rows_ = uint32_t(band_rows);
+    top_ = uint32_t(top);
+    end_ = uint32_t(top + rows);
+    k_ = 0;
+  }
+  void at_piece(uint32_t k) { k_ = k; }
+
+  uint64_t next_use(uint32_t t) const override {
+    if (t >= count_ || first_piece_[t] == kNone || first_row_[t] == kNone || last_row_[t] < top_) return kNever;
+    if (first_row_[t] >= end_) return when(first_row_[t] / band_rows_, first_piece_[t]);  // a later band
+    if (k_ <= last_piece_[t]) return when(band_, max_of(k_, first_piece_[t]));            // later in this band
+    return last_row_[t] >= end_ ? when(band_ + 1, first_piece_[t]) : kNever;             // the next band
+  }
+
+ private:
+  static uint64_t when(uint32_t band, uint32_t k) { return (uint64_t(band) << 32) | k; }
+  uint32_t count_ = 0;
+  uint32_t* first_piece_ = nullptr;
+  uint32_t* last_piece_ = nullptr;
+  uint32_t* first_row_ = nullptr;
+  uint32_t* last_row_ = nullptr;
+  uint32_t band_ = 0, band_rows_ = 1, top_ = 0, end_ = 0, k_ = 0;
+};
 
 // The band plan, made when the arena has room for one byte a BSP piece (tiler_plan_bytes): the bands
 // each piece can reach, worked out on its first visit in any band (triangle_row_span, exactly the
@@ -545,8 +642,8 @@ class BandPlan {
 class TilerFrame {
  public:
   TilerFrame(const Scene& scene, const Camera& camera, const RenderOptions& options, const View& view,
-             Stats* st)
-      : scene_(scene), camera_(camera), options_(options), view_(view), st_(st) {}
+             Stats* st, SampleFilter* cosine)
+      : scene_(scene), camera_(camera), options_(options), view_(view), st_(st), cosine_(cosine) {}
 
   Status run(Arena& arena, Sink& sink);
 
@@ -561,8 +658,13 @@ class TilerFrame {
   bool draw_piece(uint32_t index);
   // The plan byte of a piece facing the eye, from its world vertices.
   uint8_t plan_bands(const Vec3i world[3]) const;
-  // Plans each texture's last pixel row from the textured triangles' projected extent.
+  // Plans each texture's rows from the textured triangles' projected extent, and its first and last
+  // piece in the BSP walk (TexturePlan).
   void plan_textures();
+  // The next node of a front-to-back walk from the frame on top of the stack (its near side first);
+  // false when the walk is over. Shared by the drawing walk and the plan's.
+  uint32_t near_of(const BspNode& node) const;
+  uint32_t far_of(const BspNode& node) const;
   Status finish(Status s, const Arena& arena) {
     st_->peak_arena_bytes = uint32_t(arena.peak());
     return s;
@@ -581,9 +683,11 @@ class TilerFrame {
   int band_index_ = 0;
   BandPlan plan_;
   BandWriter* writer_ = nullptr;
+  SampleFilter* cosine_;
   BspFrame* stack_ = nullptr;
   size_t stack_cap_ = 0;
   TexturePager pager_;
+  TexturePlan texture_plan_;
 };
 
 Status TilerFrame::run(Arena& arena, Sink& sink) {
@@ -595,6 +699,8 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
   if (options_.shading != ShadingMode::Ids) {
     const Status t = pager_.begin(scene_, options_.texture_source, options_.texture_pool_bytes, arena, st_);
     if (!t.ok()) return finish(error(t.code, t.message, need), arena);
+    if (pager_.active() && !texture_plan_.allocate(scene_, arena))
+      return finish(error(StatusCode::ArenaTooSmall, "arena too small", need), arena);
     plan_textures();
   }
   TextureSegment* segment_rows = nullptr;
@@ -609,7 +715,13 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
   writer.use_textures(&pager_, &view_, segment_rows);
   writer_ = &writer;
   band_.factor = sample_factor(options_);
-  if (band_.factor > 1) {
+  if (uses_cosine(options_)) {
+    FilterSum* sums = arena.allocate_array<FilterSum>(CosineFilter::sums_count(camera_.width, out_.band_rows()));
+    if (!sums) return finish(error(StatusCode::ArenaTooSmall, "arena too small", need), arena);
+    cosine_->init(sums, camera_.width, camera_.height, band_.factor, out_.band_rows(), &out_, st_);
+    writer.oversample(band_.factor, nullptr, camera_.width);
+    writer.use_filter(cosine_);
+  } else if (band_.factor > 1) {
     PixelSum* sums = arena.allocate_array<PixelSum>(size_t(camera_.width) * size_t(out_.band_rows()));
     if (!sums) return finish(error(StatusCode::ArenaTooSmall, "arena too small", need), arena);
     writer.oversample(band_.factor, sums, camera_.width);
@@ -618,7 +730,7 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
   st_->bsp_pieces = scene_.bsp_piece_count;
   if (out_.band_count() > 1) {  // the plan, when the bands' pyramid still fits beside it
     PyramidLayout layout;
-    band_layout(camera_.width, out_.band_rows(), band_.factor, &layout);
+    band_layout(camera_.width, tiled_samples(options_, 0, out_.band_rows(), camera_.height), band_.factor, &layout);
     if (arena.size() - arena.used() >= Pyramid::arena_bytes(layout) + tiler_plan_bytes(scene_))
       plan_.init(arena.allocate_array<uint8_t>(tiler_plan_bytes(scene_)), scene_.bsp_piece_count, out_.band_count());
   }
@@ -634,15 +746,18 @@ Status TilerFrame::render_band(int band, Arena& arena) {
   if (!s.ok()) return s;
   band_index_ = band;
   band_.top = out_.band_top(band);
-  band_.rows = out_.band_height(band);
+  band_.samples = tiled_samples(options_, band_.top, out_.band_height(band), camera_.height);
+  band_.rows = (band_.samples + band_.factor - 1) / band_.factor;  // with the halo's partial row
   PyramidLayout layout;
-  band_layout(camera_.width, band_.rows, band_.factor, &layout);
+  band_layout(camera_.width, band_.samples, band_.factor, &layout);
   const size_t mark = arena.mark();
   if (!pyramid_.allocate(layout, arena)) return error(StatusCode::ArenaTooSmall, "arena too small");
   pyramid_.clear();
   st_->pyramid_bytes = max_of(st_->pyramid_bytes, layout.bytes());
   tiler_.init(&pyramid_, kSubpixelOne / band_.factor, options_.work, band_.top);
   writer_->begin_band(band_.top, band_.rows);
+  if (uses_cosine(options_)) cosine_->begin_band(band_.top, out_.band_height(band));
+  texture_plan_.at_band(band, out_.band_rows(), band_.top, band_.rows);
   s = walk_bsp();
   if (!s.ok()) return s;
   writer_->begin_background(options_.shading == ShadingMode::Ids ? 0 : options_.background);
@@ -652,7 +767,7 @@ Status TilerFrame::render_band(int band, Arena& arena) {
   st_->cells_visited = tiler_.cells_visited;
   arena.release_to(mark);
   ++st_->bands;
-  pager_.rows_done(uint32_t(band_.top + band_.rows - 1));  // frees textures no later band uses
+  pager_.rows_done(uint32_t(band_.top + out_.band_height(band) - 1));  // frees textures no later band uses
   return out_.finish_band();
 }
 
@@ -668,13 +783,51 @@ void TilerFrame::plan_textures() {
     if (facing == 0 || (facing < 0 && !mat.double_sided)) continue;
     ScreenTriangle parts[kMaxClipTriangles];
     const int n = project_triangle(view_, world, facing, parts, false);
-    int32_t last = -1;
+    int32_t first = INT32_MAX, last = -1;
     for (int i = 0; i < n; ++i)
-      for (int j = 0; j < 3; ++j) last = max_of(last, parts[i].v[j].y);
+      for (int j = 0; j < 3; ++j) {
+        first = min_of(first, parts[i].v[j].y);
+        last = max_of(last, parts[i].v[j].y);
+      }
+    if (n == 0 || last < 0) continue;
     // BSP pieces are quantized split points of the triangle: a pixel of margin covers them.
-    if (n > 0 && last >= 0) pager_.plan(texture, uint32_t(min_of(last / kSubpixelOne + 1, camera_.height - 1)));
+    const uint32_t last_row = uint32_t(min_of(last / kSubpixelOne + 1, camera_.height - 1));
+    pager_.plan(texture, last_row);
+    texture_plan_.rows(texture, uint32_t(max_of(first / kSubpixelOne - 1, 0)), last_row);
   }
   pager_.finish_plan();
+  // The walk's order, once for the frame: each texture's first and last piece.
+  size_t sp = 0;
+  uint32_t k = 0, visits = 0;
+  stack_[sp++] = 0;
+  while (sp > 0 && ++visits <= 2 * scene_.bsp_node_count) {  // a malformed BSP: walk_bsp reports it
+    BspFrame& f = stack_[sp - 1];
+    const uint32_t index = f & ~kNearDone;
+    if (index >= scene_.bsp_node_count) break;
+    const BspNode node = bsp_node(scene_, index);
+    if (!(f & kNearDone)) {
+      f |= kNearDone;
+      if (near_of(node) != kNone && sp < stack_cap_) stack_[sp++] = near_of(node);
+      continue;
+    }
+    for (uint32_t p = node.first_piece; p < node.first_piece + node.piece_count; ++p, ++k) {
+      const uint32_t texture = triangle_texture(scene_, bsp_piece(scene_, p).triangle);
+      if (texture != kNone) texture_plan_.piece(texture, k);
+    }
+    if (far_of(node) != kNone) f = far_of(node); else --sp;
+  }
+  pager_.use_next_use(&texture_plan_);
+}
+
+uint32_t TilerFrame::near_of(const BspNode& node) const {
+  const int64_t side = int64_t(node.normal[0]) * view_.eye.x + int64_t(node.normal[1]) * view_.eye.y +
+                       int64_t(node.normal[2]) * view_.eye.z - node.d;
+  return side >= 0 ? node.front : node.back;
+}
+
+uint32_t TilerFrame::far_of(const BspNode& node) const {
+  const uint32_t near = near_of(node);
+  return near == node.front ? node.back : node.front;
 }
 
 Status TilerFrame::walk_bsp() {
@@ -691,10 +844,7 @@ Status TilerFrame::walk_bsp() {
     const uint32_t index = f & ~kNearDone;
     if (index >= scene_.bsp_node_count) return error(StatusCode::BadScene, "BSP child out of range");
     const BspNode node = bsp_node(scene_, index);
-    const int64_t side = int64_t(node.normal[0]) * view_.eye.x + int64_t(node.normal[1]) * view_.eye.y +
-                         int64_t(node.normal[2]) * view_.eye.z - node.d;
-    const uint32_t near = side >= 0 ? node.front : node.back;
-    const uint32_t far = side >= 0 ? node.back : node.front;
+    const uint32_t near = near_of(node), far = far_of(node);
     if (!(f & kNearDone)) {
       if (node.subtree_pieces >= cull_min && subtree_hidden(node)) {
         // Every piece below is hidden (or outside the band).
@@ -712,7 +862,7 @@ Status TilerFrame::walk_bsp() {
       continue;
     }
     for (uint32_t p = node.first_piece; p < node.first_piece + node.piece_count; ++p) {
-      ++pieces_done;
+      texture_plan_.at_piece(pieces_done++);
       if (!draw_piece(p)) return error(StatusCode::SinkFailed, "sink refused a write");
       if (writer_->wrote_piece()) ++st_->triangles_drawn; else ++st_->triangles_culled;
     }
@@ -742,7 +892,7 @@ bool TilerFrame::subtree_hidden(const BspNode& node) {
   box.min_x = x0 * f;
   box.max_x = x1 * f + f - 1;
   box.min_y = y0 * f;
-  box.max_y = y1 * f + f - 1;
+  box.max_y = min_of(y1 * f + f - 1, band.samples - 1);
   return !tiler_.box_visible(box);  // false for an empty (off-screen) box too
 }
 
@@ -751,7 +901,9 @@ uint8_t TilerFrame::plan_bands(const Vec3i world[3]) const {
   if (!triangle_row_span(view_, world, &first, &last)) return BandPlan::kEveryBand;
   const int rows = out_.band_rows(), height = camera_.height;
   if (first > last || last < 0 || first >= height) return BandPlan::kNoBand;
-  return plan_.make(first <= 0 ? 0 : int(first) / rows, int(min_of<int64_t>(last, height - 1)) / rows);
+  // A row at the top of a band is also in the halo of the band above (cosine filter).
+  const int64_t halo_first = halo_samples(options_) > 0 ? first - 1 : first;
+  return plan_.make(halo_first <= 0 ? 0 : int(halo_first) / rows, int(min_of<int64_t>(last, height - 1)) / rows);
 }
 
 bool TilerFrame::draw_piece(uint32_t index) {
@@ -824,16 +976,17 @@ size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderO
   PyramidLayout layout;
   const int width = clamp_to(camera.width, 1, kMaxScreenDim), height = clamp_to(camera.height, 1, kMaxScreenDim);
   const int rows = band_rows_for(options.output, height), factor = clamp_to(sample_factor(options), 1, kMaxTilerAa);
-  if (!band_layout(width, rows, factor, &layout)) return 0;
+  if (!band_layout(width, tiled_samples(options, 0, rows, height), factor, &layout)) return 0;
   const size_t pager = options.shading == ShadingMode::Ids ? 0 : TexturePager::arena_bytes(scene, options.texture_pool_bytes);
-  return pager + segment_rows_bytes(pager) + Pyramid::arena_bytes(layout) + sums_arena_bytes(factor, width, rows) +
+  return pager + segment_rows_bytes(pager) + (pager ? TexturePlan::arena_bytes(scene) : 0) + Pyramid::arena_bytes(layout) +
+         sums_arena_bytes(options, width, rows) +
          arena_worst_case(sizeof(BspFrame) * bsp_stack_entries(scene), 4) +
          arena_worst_case(sizeof(Pixel) * kRowPixels, 4) +
          BandOutput::arena_bytes(options.output, width, height);
 }
 
 Status tiler_render(const Scene& scene, const Camera& camera, const RenderOptions& options,
-                    Arena& arena, Sink& sink, Stats* stats) {
+                    Arena& arena, Sink& sink, Stats* stats, SampleFilter* cosine) {
   Stats local;
   Stats* st = stats ? stats : &local;
   st->width = uint32_t(camera.width);
@@ -842,6 +995,8 @@ Status tiler_render(const Scene& scene, const Camera& camera, const RenderOption
   st->triangles_in = scene.triangle_count;
   Status status = check_options(camera, options);
   if (!status.ok()) return status;
+  if (uses_cosine(options) && !cosine)
+    return error(StatusCode::Unsupported, "this tiler entry has no cosine filter (render_tiler_box); use render_tiler");
   View view;
   status = make_view(camera, &view);
   if (!status.ok()) return status;
@@ -852,7 +1007,7 @@ Status tiler_render(const Scene& scene, const Camera& camera, const RenderOption
   const size_t need = tiler_arena_bytes(scene, camera, options);
   if (arena.size() - arena.used() < need)
     return error(StatusCode::ArenaTooSmall, "arena too small for the tiler", need);
-  TilerFrame frame(scene, camera, options, view, st);
+  TilerFrame frame(scene, camera, options, view, st, cosine);
   return frame.run(arena, sink);
 }
 

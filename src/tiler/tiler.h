@@ -13,13 +13,17 @@
 
 namespace ml {
 
+class SampleFilter;  // tiler/filter.h
+
 // The least arena the tiler needs (render() checks it).
 size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
 // Arena bytes beyond tiler_arena_bytes with which a frame of several bands plans them once (one byte
 // a BSP piece: each piece's facing test and band range are worked out once, not once per band). The
 // tiler uses them when the arena has them free; the image is the same either way.
 size_t tiler_plan_bytes(const Scene& scene);
+// cosine: the cosine-hump filter to use when options.filter asks for it (a CosineFilter); null leaves
+// it out of the image (such a render is Unsupported).
 Status tiler_render(const Scene& scene, const Camera& camera, const RenderOptions& options,
-                    Arena& arena, Sink& sink, Stats* stats);
+                    Arena& arena, Sink& sink, Stats* stats, SampleFilter* cosine);
 
 }  // namespace ml

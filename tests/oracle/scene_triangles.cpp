@@ -1,5 +1,7 @@
 #include "tests/oracle/scene_triangles.h"
 
+#include "tools/maskgen/filter_gen.h"
+
 namespace oracle {
 
 std::vector<Triangle> scene_triangles(const ml::Scene& scene) {
@@ -103,6 +105,32 @@ std::vector<double> box_filtered_unlit(const ml::Scene& scene, const ml::Camera&
       const size_t i = size_t(y / rays) * size_t(camera.width) + size_t(x / rays);
       for (int k = 0; k < 3; ++k) out[i * 3 + size_t(k)] += double((p >> (16 - 8 * k)) & 0xFF) * weight;
     }
+  return out;
+}
+
+std::vector<double> cosine_filtered_unlit(const ml::Scene& scene, const ml::Camera& camera, int rays,
+                                          ml::Pixel background) {
+  Camera c = to_oracle_camera(camera);
+  c.width *= rays;
+  c.height *= rays;
+  const Result ref = rasterize(scene_triangles(scene), c);
+  const size_t pixels = size_t(camera.width) * size_t(camera.height);
+  std::vector<double> out(pixels * 3, 0.0), weight(pixels, 0.0);
+  for (int y = 0; y < ref.height; ++y)
+    for (int x = 0; x < ref.width; ++x) {
+      const ml::Pixel p = base_colour(scene, ref.id[ref.index(x, y)], background);
+      const double rx = (x + 0.5) / rays, ry = (y + 0.5) / rays;  // in pixels
+      for (int py = y / rays - 1; py <= y / rays + 1; ++py)
+        for (int px = x / rays - 1; px <= x / rays + 1; ++px) {
+          if (px < 0 || py < 0 || px >= camera.width || py >= camera.height) continue;
+          const double w = filtergen::hump(rx - (px + 0.5), ry - (py + 0.5));
+          const size_t i = size_t(py) * size_t(camera.width) + size_t(px);
+          weight[i] += w;
+          for (int k = 0; k < 3; ++k) out[i * 3 + size_t(k)] += double((p >> (16 - 8 * k)) & 0xFF) * w;
+        }
+    }
+  for (size_t i = 0; i < pixels; ++i)
+    for (int k = 0; k < 3; ++k) out[i * 3 + size_t(k)] /= weight[i];
   return out;
 }
 

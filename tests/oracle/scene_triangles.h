@@ -31,4 +31,10 @@ ml::Pixel base_colour(const ml::Scene& scene, int64_t id, ml::Pixel background);
 std::vector<double> box_filtered_unlit(const ml::Scene& scene, const ml::Camera& camera, int rays,
                                        ml::Pixel background);
 
+// The same rays filtered by the tiler's cosine-hump kernel (tools/maskgen/filter_gen.h: one pixel in
+// radius, w(r) = (1 + cos(pi r)) / 2, over the 3 x 3 pixels around each pixel), each ray weighted by
+// the kernel at its own position, normalised by the weight of the on-screen rays.
+std::vector<double> cosine_filtered_unlit(const ml::Scene& scene, const ml::Camera& camera, int rays,
+                                          ml::Pixel background);
+
 }  // namespace oracle

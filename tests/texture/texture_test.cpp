@@ -487,6 +487,97 @@ TEST(TexturePager, ReadsOnlyVisibleTexturesWhenThePoolHoldsThem) {
   }
 }
 
+// Four quads side by side, one behind the other (BSP front to back: A, B, C, A again), textures A, B
+// and C of the same size: with a pool of two textures, at C the tiler must evict A or B. B is done
+// for the frame while A comes back: the plan (its first and last piece in the walk) evicts B; the
+// least recently sampled would be A, read again at the fourth quad.
+ml::CompileResult cycling_quads() {
+  ml::SceneMesh mesh;
+  mesh.nodes.resize(1);
+  mesh.nodes[0].name = "quads";
+  for (int t = 0; t < 3; ++t) {
+    ml::MeshImage im;
+    im.width = im.height = 16;
+    for (int i = 0; i < 256; ++i)  // more than 256 colours in all: each texture RGB565, 512 bytes
+      im.rgba.insert(im.rgba.end(), {uint8_t(i), uint8_t(t * 80 + i % 7), uint8_t(255 - i), 255});
+    mesh.images.push_back(im);
+    mesh.texture_images.push_back(uint32_t(t));
+    mesh.texture_samplers.push_back(ml::MeshSampler{});
+  }
+  const uint32_t textures[4] = {0, 1, 2, 0};
+  for (int q = 0; q < 4; ++q) {
+    ml::MeshMaterial m;
+    m.base_color[0] = m.base_color[1] = m.base_color[2] = 1.0;
+    m.texture = textures[q];
+    mesh.materials.push_back(m);
+    ml::MeshPrimitive prim;
+    prim.material = uint32_t(q);
+    const double x0 = -2.0 + q * 1.0, z = -q * 1.0;
+    const double corners[4][2] = {{x0, -0.4}, {x0 + 0.8, -0.4}, {x0 + 0.8, 0.4}, {x0, 0.4}};
+    for (const auto& c : corners) {
+      ml::MeshVertex v;
+      v.position[0] = c[0] * (5.0 - z) / 5.0;  // the same size on screen at every depth
+      v.position[1] = c[1] * (5.0 - z) / 5.0;
+      v.position[2] = z;
+      v.normal[2] = 1;
+      v.uv[0] = c[0] - x0;
+      v.uv[1] = c[1] + 0.4;
+      prim.vertices.push_back(v);
+    }
+    prim.triangles.push_back({0, 1, 2});
+    prim.triangles.push_back({0, 2, 3});
+    mesh.nodes[0].primitives.push_back(prim);
+  }
+  mesh.camera.valid = true;
+  mesh.camera.eye[2] = 5;
+  return ml::compile_mesh(mesh);
+}
+
+TEST(TexturePager, TilerEvictsByItsBspOrder) {
+  const ml::CompileResult r = cycling_quads();
+  ASSERT_TRUE(r.ok) << r.error;
+  ml::Scene scene;
+  ASSERT_TRUE(scenetest::read(r.blob, &scene).ok());
+  ASSERT_EQ(scene.texture_texels_count, 3u);
+  ml::Camera cam;
+  cam.eye = ml::Vec3i{int32_t(std::lround(r.camera.eye[0])), int32_t(std::lround(r.camera.eye[1])),
+                      int32_t(std::lround(r.camera.eye[2]))};
+  cam.target = ml::Vec3i{cam.eye.x, cam.eye.y, cam.eye.z - 1000};
+  cam.width = 160;
+  cam.height = 60;
+  cam.near = 16;
+  ml::RenderOptions o = textest::options(ml::RendererKind::Tiler);
+  o.output.band_rows = 0;  // one band: the walk goes once, A B C A
+  const Frame all = textest::render(scene, cam, o);
+  ASSERT_TRUE(all.status.ok()) << all.status.message;
+  EXPECT_EQ(all.stats.texture_loads, 3u);
+  o.texture_pool_bytes = 2 * scene.texture_texels[0].bytes;
+  const Frame two = textest::render(scene, cam, o);
+  ASSERT_TRUE(two.status.ok() && two.contract) << two.contract_error;
+  EXPECT_EQ(two.pixels, all.pixels);
+  EXPECT_EQ(two.stats.texture_evictions, 1u);  // B, at C
+  EXPECT_EQ(two.stats.texture_reloads, 0u);
+  EXPECT_EQ(two.stats.texture_loads, 3u);
+  // In bands of 16 rows the walk repeats per band: B and C are read again in each band after the
+  // first, A stays (each band: B evicts C, C evicts B).
+  o.output.band_rows = 16;
+  const Frame banded = textest::render(scene, cam, o);
+  ASSERT_TRUE(banded.status.ok());
+  EXPECT_EQ(banded.pixels, all.pixels);
+  // Bands the quads reach: the first reads A, B and C and evicts B; every later one starts with C and
+  // A resident, keeps A (needed again in the band) and reads B and C once each.
+  uint32_t reached = 0;
+  for (int band = 0; band * 16 < cam.height; ++band) {
+    bool textured = false;
+    for (int y = band * 16; y < std::min(cam.height, band * 16 + 16); ++y)
+      for (int x = 0; x < cam.width; ++x) textured |= all.pixels[size_t(y) * size_t(cam.width) + size_t(x)] != o.background;
+    reached += textured;
+  }
+  ASSERT_GE(reached, 2u);
+  EXPECT_EQ(banded.stats.texture_loads, 3 + 2 * (reached - 1));
+  EXPECT_EQ(banded.stats.texture_reloads, 2 * (reached - 1));
+}
+
 TEST(TexturePager, ArenaBytesIncludeThePool) {
   const mlhost::LoadedScene& s = load("builtin:banded");
   const ml::Camera cam = textest::camera_for(s, 96, 64);

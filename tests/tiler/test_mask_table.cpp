@@ -224,7 +224,7 @@ TEST(MaskTable, RegenerationIsByteIdentical) {
   const std::string cmd = std::string(gen) + " --k " + std::to_string(ml::kMaskK) + " --out " + dir +
                           " > /dev/null";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
-  for (const char* name : {"mask_tables.h", "mask_tables_data.cpp"}) {
+  for (const char* name : {"mask_tables.h", "mask_tables_data.cpp", "filter_tables.h", "filter_tables_data.cpp"}) {
     const std::string fresh = slurp(std::string(dir) + "/" + name);
     const std::string committed = slurp(std::string("tables/") + name);
     EXPECT_FALSE(fresh.empty()) << name;

@@ -6,109 +6,14 @@
 
 #include <cmath>
 #include <cstdio>
-#include <random>
 #include <string>
 #include <vector>
 
-#include "core/arena.h"
-#include "platform/host/image_sink.h"
-#include "platform/host/scene_load.h"
-#include "render/render.h"
-#include "tests/oracle/oracle.h"
-#include "tests/oracle/scene_triangles.h"
-#include "tools/scenec/scenec.h"
-#include "view/view.h"
+#include "tests/tiler/aa_test_util.h"
 
 namespace {
 
-constexpr ml::Pixel kBackground = 0x202830;
-
-struct Image {
-  bool ok = false;
-  std::string error;
-  std::vector<ml::Pixel> pixels;
-};
-
-Image render_colour(const ml::Scene& scene, const ml::Camera& camera, ml::RendererKind renderer, int aa,
-                    ml::ShadingMode shading = ml::ShadingMode::Unlit, int band_rows = 16,
-                    ml::PixelFormat format = ml::PixelFormat::Xrgb8888) {
-  Image out;
-  ml::RenderOptions o;
-  o.renderer = renderer;
-  o.shading = shading;
-  o.aa = aa;
-  o.background = kBackground;
-  o.output.band_rows = band_rows;
-  o.output.format = format;
-  const size_t bytes = ml::render_arena_bytes(scene, camera, o);
-  std::vector<uint64_t> storage(bytes / 8 + 1);
-  ml::Arena arena(storage.data(), bytes);
-  mlhost::ImageSink sink;
-  const ml::Status s = ml::render(scene, camera, o, arena, sink, nullptr);
-  if (!s.ok()) {
-    out.error = std::string("render failed: ") + s.message;
-    return out;
-  }
-  if (!sink.contract_ok()) {
-    out.error = "sink contract: " + sink.contract_error();
-    return out;
-  }
-  out.ok = true;
-  out.pixels = sink.pixels();
-  return out;
-}
-
-ml::Camera framing(const ml::Scene& scene, int w, int h) {
-  const ml::SceneInfo& i = *scene.info;
-  return ml::frame_sphere(ml::Vec3i{i.sphere_center[0], i.sphere_center[1], i.sphere_center[2]}, i.sphere_radius, w, h,
-                          45 << 16);
-}
-
-// Random triangles in separate depth slabs (no crossings, so no depth ties), random winding, a third
-// double-sided, each material its own colour.
-void random_scene(uint32_t seed, int count, mlhost::LoadedScene* out) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> xy(-4, 4), in_slab(0, 0.8), unit(0, 1);
-  ml::SceneMesh mesh;
-  mesh.nodes.resize(1);
-  mesh.nodes[0].name = "random";
-  for (uint32_t m = 0; m < 6; ++m) {
-    ml::MeshMaterial mat;
-    for (int c = 0; c < 3; ++c) mat.base_color[c] = unit(rng);
-    mat.double_sided = m % 3 == 0;
-    mesh.materials.push_back(mat);
-    ml::MeshPrimitive prim;
-    prim.material = m;
-    mesh.nodes[0].primitives.push_back(prim);
-  }
-  for (int t = 0; t < count; ++t) {
-    ml::MeshPrimitive& prim = mesh.nodes[0].primitives[size_t(t) % 6];
-    const uint32_t base = uint32_t(prim.vertices.size());
-    for (int k = 0; k < 3; ++k) {
-      ml::MeshVertex v;
-      v.position[0] = xy(rng);
-      v.position[1] = xy(rng);
-      v.position[2] = -(t + in_slab(rng));
-      prim.vertices.push_back(v);
-    }
-    prim.triangles.push_back({base, base + 1, base + 2});
-  }
-  std::string error;
-  const ml::CompileResult c = ml::compile_mesh(mesh);
-  ASSERT_TRUE(c.ok) << c.error;
-  ASSERT_TRUE(mlhost::adopt_compiled(c, "random", out, &error)) << error;
-}
-
-
-// The oracle's samples: one ray per sample of an f x f grid a pixel (a camera f times larger).
-oracle::Result oracle_samples(const ml::Scene& scene, const ml::Camera& camera, int f) {
-  oracle::Camera c = oracle::to_oracle_camera(camera);
-  c.width *= f;
-  c.height *= f;
-  return oracle::rasterize(oracle::scene_triangles(scene), c);
-}
-
-int channel(ml::Pixel p, int c) { return int(p >> (16 - 8 * c)) & 0xFF; }
+using namespace aatest;
 
 struct Comparison {
   int exact_pixels = 0;   // every sample decisive: must match exactly
@@ -165,16 +70,6 @@ void check_with_oracle(const ml::Scene& scene, const ml::Camera& camera, int f, 
   EXPECT_GE(r.mixed_pixels, min_mixed) << "too few blended pixels checked closely";
 }
 
-const mlhost::LoadedScene& default_scene() {
-  static mlhost::LoadedScene scene = [] {
-    mlhost::LoadedScene s;
-    std::string error;
-    if (!mlhost::load_scene("", &s, &error)) ADD_FAILURE() << error;
-    return s;
-  }();
-  return scene;
-}
-
 TEST(TilerAa, RandomScenesMatchTheOracleSampleForSample) {
   for (uint32_t seed = 1; seed <= 4; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
@@ -227,17 +122,6 @@ TEST(TilerAa, RefusesOtherSampleCounts) {
     const Image img = render_colour(s.scene, framing(s.scene, 32, 24), ml::RendererKind::Tiler, f);
     EXPECT_FALSE(img.ok) << "aa " << f;
   }
-}
-
-// RMS error (per channel, 0..255) of an image against the 16 x 16 box-filtered oracle.
-double rms_against(const std::vector<ml::Pixel>& img, const std::vector<double>& reference) {
-  double sum = 0;
-  for (size_t i = 0; i < img.size(); ++i)
-    for (int k = 0; k < 3; ++k) {
-      const double d = channel(img[i], k) - reference[i * 3 + size_t(k)];
-      sum += d * d;
-    }
-  return std::sqrt(sum / double(img.size() * 3));
 }
 
 

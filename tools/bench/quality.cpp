@@ -1,7 +1,8 @@
 // bench quality: how close each renderer's antialiased picture comes to a reference. The reference
-// is the double-precision oracle (tests/oracle) casting 16 x 16 rays a pixel, box-filtered; renders
-// use unlit base colours, so only coverage (visibility and filtering) makes the difference. Prints
-// one line a renderer and sample count: RMS and largest error per channel (0..255).
+// is the double-precision oracle (tests/oracle) casting 16 x 16 rays a pixel, box-filtered, or
+// filtered with the tiler's cosine-hump kernel for the cosine rows; renders use unlit base colours,
+// so only coverage (visibility and filtering) makes the difference. Prints one line a renderer,
+// sample count and filter: RMS and largest error per channel (0..255).
 #include <stdio.h>
 
 #include <algorithm>
@@ -25,11 +26,12 @@ constexpr ml::Pixel kBackground = 0x202830;
 int channel(uint32_t p, int c) { return int(p >> (16 - 8 * c)) & 0xFF; }
 
 bool render_unlit(const ml::Scene& scene, const ml::Camera& camera, ml::RendererKind renderer, int aa,
-                  std::vector<ml::Pixel>* pixels) {
+                  ml::FilterKind filter, std::vector<ml::Pixel>* pixels) {
   ml::RenderOptions o;
   o.renderer = renderer;
   o.shading = ml::ShadingMode::Unlit;
   o.aa = aa;
+  o.filter = filter;
   o.background = kBackground;
   const size_t bytes = ml::render_arena_bytes(scene, camera, o);
   std::vector<uint64_t> storage(bytes / 8 + 1);
@@ -60,18 +62,25 @@ int quality(const std::string& path, const std::string& size) {
   }
   const ml::Scene& scene = loaded.scene;
   const ml::Camera camera = bench_camera(path, scene, w, h);
-  const std::vector<double> ref = oracle::box_filtered_unlit(scene, camera, kReferenceSamples, kBackground);
+  const std::vector<double> box_ref = oracle::box_filtered_unlit(scene, camera, kReferenceSamples, kBackground);
+  const std::vector<double> cosine_ref = oracle::cosine_filtered_unlit(scene, camera, kReferenceSamples, kBackground);
+  constexpr ml::FilterKind kBox = ml::FilterKind::Box, kCosine = ml::FilterKind::Cosine;
   const struct {
     ml::RendererKind kind;
     const char* name;
     int aa;
-  } runs[] = {{ml::RendererKind::Tiler, "tiler", 1},       {ml::RendererKind::Tiler, "tiler", 2},
-              {ml::RendererKind::Tiler, "tiler", 4},       {ml::RendererKind::Tiler, "tiler", 8},
-              {ml::RendererKind::Scanline, "scanline", 1}, {ml::RendererKind::Scanline, "scanline", 3},
-              {ml::RendererKind::Scanline, "scanline", 4}};
+    ml::FilterKind filter;
+    bool cosine_reference;
+  } runs[] = {{ml::RendererKind::Tiler, "tiler", 1, kBox, false},       {ml::RendererKind::Tiler, "tiler", 2, kBox, false},
+              {ml::RendererKind::Tiler, "tiler", 4, kBox, false},       {ml::RendererKind::Tiler, "tiler", 8, kBox, false},
+              {ml::RendererKind::Scanline, "scanline", 1, kBox, false}, {ml::RendererKind::Scanline, "scanline", 3, kBox, false},
+              {ml::RendererKind::Scanline, "scanline", 4, kBox, false}, {ml::RendererKind::Tiler, "tiler", 1, kBox, true},
+              {ml::RendererKind::Tiler, "tiler", 8, kBox, true},        {ml::RendererKind::Tiler, "tiler", 4, kCosine, true},
+              {ml::RendererKind::Tiler, "tiler", 8, kCosine, true}};
   for (const auto& run : runs) {
     std::vector<ml::Pixel> pixels;
-    if (!render_unlit(scene, camera, run.kind, run.aa, &pixels)) return 1;
+    if (!render_unlit(scene, camera, run.kind, run.aa, run.filter, &pixels)) return 1;
+    const std::vector<double>& ref = run.cosine_reference ? cosine_ref : box_ref;
     double sum = 0, worst = 0;
     for (size_t i = 0; i < pixels.size(); ++i)
       for (int k = 0; k < 3; ++k) {
@@ -79,7 +88,8 @@ int quality(const std::string& path, const std::string& size) {
         sum += d * d;
         worst = std::max(worst, d);
       }
-    printf("renderer=%s aa=%d size=%dx%d rms=%.3f max=%.1f\n", run.name, run.aa, w, h,
+    printf("renderer=%s aa=%d filter=%s reference=%s size=%dx%d rms=%.3f max=%.1f\n", run.name, run.aa,
+           run.filter == kCosine ? "cosine" : "box", run.cosine_reference ? "cosine" : "box", w, h,
            std::sqrt(sum / double(pixels.size() * 3)), worst);
   }
   return 0;

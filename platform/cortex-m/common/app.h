@@ -128,15 +128,17 @@ inline void print_stats(ml::RendererKind k, const ml::Stats& s, uint64_t instruc
 
 // The renderer entry of this image's configuration: an image of one renderer (FW_RENDERERS 1: tiler,
 // 2: scanline) calls that renderer's own entry, so the other renderer is not linked (about 10 KB of
-// flash on a Cortex-M3); an image of both calls render().
+// flash on a Cortex-M3); an image of both calls both entries. The tiler's is render_tiler_box: the
+// images draw one sample a pixel, and the cosine-hump filter would add about 18 KB of flash.
 inline ml::Status render_configured(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o,
                                     ml::Arena& arena, ml::Sink& sink, ml::Stats* stats) {
 #if FW_RENDERERS == 1
-  return ml::render_tiler(scene, camera, o, arena, sink, stats);
+  return ml::render_tiler_box(scene, camera, o, arena, sink, stats);
 #elif FW_RENDERERS == 2
   return ml::render_scanline(scene, camera, o, arena, sink, stats);
 #else
-  return ml::render(scene, camera, o, arena, sink, stats);
+  return o.renderer == ml::RendererKind::Tiler ? ml::render_tiler_box(scene, camera, o, arena, sink, stats)
+                                               : ml::render_scanline(scene, camera, o, arena, sink, stats);
 #endif
 }
 inline size_t arena_bytes_configured(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o) {
