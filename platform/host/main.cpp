@@ -86,6 +86,8 @@ const char* const kRenderHelp =
     "                              or 8 (on a regular grid)\n"
     "  --filter box|cosine         tiler with --aa 2, 4 or 8: the mean of a pixel's own samples (box,\n"
     "                              default) or a cosine-hump kernel over the 3x3 pixels around it\n"
+    "  --samples regular|jittered  tiler with --aa 2, 4 or 8: samples at their sub-cells' centres\n"
+    "                              (default) or jittered inside them, the pattern per pixel by --seed\n"
     "  --shading unlit|flat|gouraud|lines\n"
     "                              base colours; + one directional light; per-vertex lighting;\n"
     "                              hidden-line drawing (scanline only). Default flat\n"
@@ -464,7 +466,8 @@ int cmd_info(int argc, char** argv) {
 const std::vector<std::string> kRenderValued = {"--renderer", "--size", "--aa", "--eye", "--target", "--up",
                                                 "--fov", "--near", "--shading", "--seed", "--background",
                                                 "--arena", "--format", "--dither", "--band-rows", "--buffers",
-                                                "--texture-pool", "--texture-source", "--filter"};
+                                                "--texture-pool", "--texture-source", "--filter",
+                                                "--samples"};
 
 struct RenderArgs {
   ml::RenderOptions opt;
@@ -486,6 +489,10 @@ bool parse_render_option(const std::string& n, const std::string& v, RenderArgs*
     if (v == "box") opt.filter = ml::FilterKind::Box;
     else if (v == "cosine") opt.filter = ml::FilterKind::Cosine;
     else usage_error("--filter: expected box or cosine, got '" + v + "'");
+  } else if (n == "--samples") {
+    if (v == "regular") opt.samples = ml::SamplePattern::Regular;
+    else if (v == "jittered") opt.samples = ml::SamplePattern::Jittered;
+    else usage_error("--samples: expected regular or jittered, got '" + v + "'");
   } else if (n == "--eye") { parse_vec3(n, v, cam.eye); cam.has_eye = true; }
   else if (n == "--target") { parse_vec3(n, v, cam.target); cam.has_target = true; }
   else if (n == "--up") { parse_vec3(n, v, cam.up); cam.has_up = true; }
@@ -534,6 +541,8 @@ void finish_render_args(RenderArgs* r) {
     usage_error("--aa: the tiler takes 1, 2, 4 or 8 samples per pixel per axis (or use --renderer scanline)");
   if (r->opt.filter == ml::FilterKind::Cosine && (!tiler || aa == 1))
     usage_error("--filter cosine: needs the tiler and --aa 2, 4 or 8");
+  if (r->opt.samples == ml::SamplePattern::Jittered && (!tiler || aa == 1))
+    usage_error("--samples jittered: needs the tiler and --aa 2, 4 or 8");
   if (!r->has_dither) r->opt.output.dither = ml::format_dithers_by_default(r->opt.output.format);
 }
 

@@ -19,6 +19,11 @@ enum class RendererKind : uint8_t { Tiler, Scanline };
 // pixels around it (tables/filter_tables.h, docs/tiler.md).
 enum class FilterKind : uint8_t { Box, Cosine };
 
+// Where a pixel's samples lie (aa > 1): a regular grid at the sub-cell centres, or jittered inside
+// their sub-cells by one of several patterns chosen per pixel (core/jitter.h). The tiler samples
+// either; the scanline renderer's supersampling keeps its own corner lattice.
+enum class SamplePattern : uint8_t { Regular, Jittered };
+
 enum class ShadingMode : uint8_t {
   Unlit,    // base colour
   Flat,     // face normal, one directional light + ambient
@@ -49,8 +54,9 @@ struct RenderOptions {
   ShadingMode shading = ShadingMode::Flat;
   int aa = 1;                         // samples per pixel per axis (scanline: 1..8; tiler: 1, 2, 4, 8)
   FilterKind filter = FilterKind::Box;  // tiler, aa > 1
+  SamplePattern samples = SamplePattern::Regular;  // tiler, aa > 1
   Pixel background = 0x202830;        // 0x00RRGGBB; ignored (0) in Ids mode
-  uint32_t seed = 1;                  // for stochastic choices (adaptive shading, jitter)
+  uint32_t seed = 1;                  // for stochastic choices (adaptive shading, the jitter patterns)
   WorkImage* work = nullptr;
   OutputOptions output;
   // Textures (texture/pager.h): the pool the pager may take from the arena (clamped to what the scene

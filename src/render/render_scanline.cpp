@@ -13,6 +13,9 @@ Status render_scanline(const Scene& scene, const Camera& camera, const RenderOpt
   // The scanline renderer filters with its own box over corner samples (docs/scanline.md).
   if (options.filter != FilterKind::Box)
     return error(StatusCode::Unsupported, "the filter option is the tiler's (the scanline renderer has its own)");
+  if (options.samples != SamplePattern::Regular)
+    return error(StatusCode::Unsupported,
+                 "the scanline renderer supersamples its corner lattice (jittered samples: Camera::sample_shift)");
   return render_with(scanline_render, scene, camera, options, arena, sink, stats);
 }
 

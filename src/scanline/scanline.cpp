@@ -343,6 +343,14 @@ inline size_t round8(size_t v) { return (v + 7) & ~size_t(7); }
 // larger, a sorted copy of max_y (2 B a piece) after a quicksort.
 inline bool by_rows(uint32_t n, const Lattice& lat) { return (size_t(lat.ny) + 1) * 8 <= size_t(n) * 2; }
 
+// A yActiveList slot's texel table (texture/sampler.h) for its colour, valid while the pager's table
+// generation stays the same.
+struct SlotLut {
+  const Pixel* lut;
+  Pixel colour, lut_colour;
+  uint32_t generation;
+};
+
 struct Sizes {
   size_t ysort, drawn, temp, yactive, ord, xactive, keep, acc, band;
   size_t pager, texslots;  // texture pool and per-slot texture state (0 untextured)
@@ -363,7 +371,9 @@ Sizes sizes_for(const Scene& scene, const Setup& s, uint32_t n, uint32_t m) {
   z.acc = s.accumulate ? round8(size_t(s.width) * 8) : 0;
   z.band = s.band_bytes;
   z.pager = s.pager_bytes;
-  z.texslots = s.pager_bytes ? round8(size_t(m) * sizeof(TexturePlanes)) + round8(size_t(m) * 4) : 0;
+  z.texslots = s.pager_bytes ? round8(size_t(m) * sizeof(TexturePlanes)) + round8(size_t(m) * 4) +
+                                   round8(size_t(m) * sizeof(SlotLut))
+                             : 0;
   return z;
 }
 
@@ -450,6 +460,7 @@ uint32_t m_from_sorted(const YSortEntry* ys, uint16_t* max_ys, uint32_t n, uint6
 
 // ---- the render ---------------------------------------------------------------------------------
 
+
 struct Renderer {
   const Scene* scene;
   const RenderOptions* opt;
@@ -485,6 +496,7 @@ struct Renderer {
   TexturePager pager;
   uint32_t* tex_of = nullptr;
   TexturePlanes* tex_planes = nullptr;
+  SlotLut* tex_lut = nullptr;
   static constexpr uint32_t kTexReady = 0x80000000u;
 
   // per sample row (l > 1)
@@ -517,6 +529,7 @@ struct Renderer {
     if (t.front_facing) flags |= kFront;
     if (tex_of) {
       tex_of[slot] = triangle_texture(*scene, id);
+      tex_lut[slot] = SlotLut{nullptr, 0, 0, ~0u};
       pager.add_user(tex_of[slot]);
     }
     const Material& mat = material_of(*scene, id);
@@ -597,7 +610,17 @@ struct Renderer {
     if (!bytes) return c;
     int32_t uv[2];
     texture_uv(planes_of(slot, id), x, y, uv);
-    return sample_texture(scene->texture_texels[texture], bytes, uv, c);
+    const TextureTexels& t = scene->texture_texels[texture];
+    // A flat piece's samples keep the texel table the pager has cached for its colour, if any (the
+    // same colours as without it; looked up again when the pager makes a table).
+    SlotLut& l = tex_lut[slot];
+    if (!(act[slot].flags & kSmooth) && (l.generation != pager.lut_generation() || l.colour != c)) {
+      l.lut = pager.texel_lut(texture, c, bytes, 0, &l.lut_colour);
+      l.colour = c;
+      l.generation = pager.lut_generation();
+    }
+    if (!(act[slot].flags & kSmooth) && l.lut) return sample_texture(t, bytes, l.lut, l.lut_colour, uv, c);
+    return sample_texture(t, bytes, uv, c);
   }
   TexturePlanes& planes_of(uint32_t slot, uint32_t id) {
     uint32_t& t = tex_of[slot];
@@ -1190,6 +1213,7 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
   if (z.acc) r.acc = static_cast<uint64_t*>(arena.allocate(z.acc, 8));
   if (z.texslots) {
     r.tex_planes = static_cast<TexturePlanes*>(arena.allocate(round8(size_t(m) * sizeof(TexturePlanes)), 8));
+    r.tex_lut = static_cast<SlotLut*>(arena.allocate(round8(size_t(m) * sizeof(SlotLut)), 8));
     r.tex_of = static_cast<uint32_t*>(arena.allocate(round8(size_t(m) * 4), 8));
   }
   stats->n = n;

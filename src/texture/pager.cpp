@@ -215,6 +215,7 @@ const Pixel* TexturePager::cached_lut(uint32_t t, Pixel colour, const uint8_t* b
   if (!make || !bytes) return nullptr;
   Pixel* lut = luts_ + oldest * kTexelLutEntries;
   make_texel_lut(scene_->texture_texels[t], bytes, colour, lut);
+  ++lut_clock_made_;
   lut_keys_[oldest] = LutKey{t, colour, ++lut_clock_};
   return lut;
 }

@@ -79,6 +79,8 @@ class TexturePager {
   static constexpr uint32_t kLutSlots = 4;
   static constexpr uint32_t kLutMinSamples = 32;
   const Pixel* texel_lut(uint32_t t, Pixel colour, const uint8_t* bytes, uint32_t samples, Pixel* lut_colour);
+  // Counts the tables made: a table pointer from texel_lut stays valid while this does not change.
+  uint32_t lut_generation() const { return lut_clock_made_; }
 
  private:
   struct Slot {
@@ -121,6 +123,7 @@ class TexturePager {
   Pixel* luts_ = nullptr;  // kLutSlots tables of kTexelLutEntries
   LutKey lut_keys_[kLutSlots] = {};
   uint32_t lut_clock_ = 0;
+  uint32_t lut_clock_made_ = 0;
 };
 
 }  // namespace ml

@@ -175,6 +175,32 @@ Pixel sample_texture(const TextureTexels& t, const uint8_t* bytes, const int32_t
   return textured_colour(t, bytes, uv, colour);
 }
 
+namespace {
+
+template <TexelFormat F>
+Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel after, const int32_t uv[2],
+                 int width_bits) {
+  const LutTexels<F> fetch(t, bytes, lut, width_bits);
+  if (t.filter == uint8_t(TextureFilter::Bilinear)) return bilinear<false>(t, uv[0], uv[1], fetch);
+  const int64_t su = int64_t(uv[0]) * t.width, sv = int64_t(uv[1]) * t.height;
+  return modulate_texel(fetch(wrap(su >> 16, t.width, t.wrap_s), wrap(sv >> 16, t.height, t.wrap_t)), after);
+}
+
+}  // namespace
+
+Pixel sample_texture(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
+                     const int32_t uv[2], Pixel colour) {
+  if (t.filter == uint8_t(TextureFilter::Bilinear) && lut_colour != colour) return textured_colour(t, bytes, uv, colour);
+  const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;
+  const int width_bits = bit_length(t.width) - 1;
+  switch (TexelFormat(t.format)) {
+    case TexelFormat::Palette8: return sample_lut<TexelFormat::Palette8>(t, bytes, lut, after, uv, width_bits);
+    case TexelFormat::Grey4: return sample_lut<TexelFormat::Grey4>(t, bytes, lut, after, uv, width_bits);
+    case TexelFormat::Rgb565: return sample_lut<TexelFormat::Rgb565>(t, bytes, lut, after, uv, width_bits);
+    default: return colour;
+  }
+}
+
 void make_texel_lut(const TextureTexels& t, const uint8_t* bytes, Pixel colour, Pixel* lut) {
   switch (TexelFormat(t.format)) {
     case TexelFormat::Palette8:

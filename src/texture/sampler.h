@@ -30,6 +30,11 @@ inline Pixel modulate_texel(Pixel texel, Pixel colour) {
   return out;
 }
 
+// sample_texture(texture, bytes, uv, colour) through a make_texel_lut table of this texture for
+// lut_colour (colour, or for nearest filtering white): the same colour.
+Pixel sample_texture(const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
+                     const int32_t uv[2], Pixel colour);
+
 // A texel look-up table: a texture's colours decoded once (and modulated by one colour), so a
 // texel costs a load instead of a decode and a product. Palette8: the palette (indices past it read
 // its last colour); Grey4: the 16 levels; Rgb565: red (32 entries), green (64) and blue (32) parts in

@@ -1,5 +1,6 @@
 #include "tiler/tile.h"
 
+#include "core/jitter.h"
 #include "tables/mask_tables.h"
 
 namespace ml {
@@ -163,7 +164,7 @@ void poly_from_setup(const TriangleSetup& setup, ConvexPoly* out) {
 }
 
 void poly_in_samples(const ScreenTriangle& tri, const TriangleSetup& setup, int factor, int width,
-                     int height, ConvexPoly* out) {
+                     int height, ConvexPoly* out, bool jittered) {
   poly_from_setup(setup, out);
   if (factor == 1) return;
   int32_t min_x = tri.v[0].x, max_x = min_x, min_y = tri.v[0].y, max_y = min_y;
@@ -173,10 +174,17 @@ void poly_in_samples(const ScreenTriangle& tri, const TriangleSetup& setup, int 
     min_y = min_of(min_y, tri.v[i].y);
     max_y = max_of(max_y, tri.v[i].y);
   }
-  // Sample centres s * pitch + pitch / 2 inside [min, max], as setup_triangle does for pixels.
-  const int64_t pitch = kSubpixelOne / factor, half = pitch / 2;
-  out->min_x = int32_t(max_of<int64_t>(0, -div_floor(-(int64_t(min_x) - half), pitch)));
-  out->min_y = int32_t(max_of<int64_t>(0, -div_floor(-(int64_t(min_y) - half), pitch)));
+  // Sample centres s * pitch + pitch / 2 inside [min, max], as setup_triangle does for pixels; jittered
+  // samples anywhere in their cells [s * pitch, (s + 1) * pitch).
+  const int64_t pitch = kSubpixelOne / factor, half = jittered ? 0 : pitch / 2;
+  if (jittered) {
+    out->min_x = int32_t(max_of<int64_t>(0, div_floor(min_x, pitch)));
+    out->min_y = int32_t(max_of<int64_t>(0, div_floor(min_y, pitch)));
+  }
+  if (!jittered) {
+    out->min_x = int32_t(max_of<int64_t>(0, -div_floor(-(int64_t(min_x) - half), pitch)));
+    out->min_y = int32_t(max_of<int64_t>(0, -div_floor(-(int64_t(min_y) - half), pitch)));
+  }
   out->max_x = int32_t(min_of<int64_t>(int64_t(width) * factor - 1, div_floor(int64_t(max_x) - half, pitch)));
   out->max_y = int32_t(min_of<int64_t>(int64_t(height) * factor - 1, div_floor(int64_t(max_y) - half, pitch)));
 }
@@ -239,14 +247,30 @@ bool HierTiler::edges_mask(const Edges& in, int64_t side, Edges* crossing, uint6
   return v != kAll;
 }
 
-// Of the samples in `todo` of a finest cell, those inside every crossing edge.
-uint64_t HierTiler::exact_samples(const Edges& edges, uint64_t todo) const {
+// Where band sample (gx, gy) lies inside its sub-cell: the centre, or its jittered offset (the pattern
+// of its pixel, whose row counts from the band's top row).
+void HierTiler::sample_offset(int gx, int gy, int64_t* x, int64_t* y) const {
+  if (jitter_f_ == 0) {
+    *x = *y = pitch_ / 2;
+    return;
+  }
+  const int f = jitter_f_;
+  const uint32_t pattern = jitter_pattern(gx / f, gy / f + work_row0_, jitter_seed_);
+  int32_t jx, jy;
+  jitter_offset(pattern, gx % f, gy % f, pitch_, &jx, &jy);
+  *x = jx;
+  *y = jy;
+}
+
+// Of the samples in `todo` of finest cell (bx, by), those inside every crossing edge.
+uint64_t HierTiler::exact_samples(const Edges& edges, uint64_t todo, int bx, int by) const {
   uint64_t in = 0;
-  const int64_t half = pitch_ / 2;
   while (todo != 0) {
     const int bit = __builtin_ctzll(todo);
     todo &= todo - 1;
-    const int64_t x = (bit & 7) * int64_t(pitch_) + half, y = (bit >> 3) * int64_t(pitch_) + half;
+    int64_t ox, oy;
+    sample_offset(bx * 8 + (bit & 7), by * 8 + (bit >> 3), &ox, &oy);
+    const int64_t x = (bit & 7) * int64_t(pitch_) + ox, y = (bit >> 3) * int64_t(pitch_) + oy;
     bool inside = true;
     for (int i = 0; i < edges.n && inside; ++i)
       inside = edges.e[i] + edges.a[i] * x + edges.b[i] * y >= 0;
@@ -301,7 +325,7 @@ bool HierTiler::tile_cell(int level, int mx, int my, const Edges& in, CoverageWr
   if (work_) add_work(level, mx, my);
   const PyramidLayout& lay = pyr_->layout;
   uint64_t cover;
-  if (level == lay.finest() && block_samples(in, &cover)) {
+  if (level == lay.finest() && jitter_f_ == 0 && block_samples(in, &cover)) {
     // Inside the box only: a split piece's box bounds its slivers (as the descent's exact tests do).
     uint64_t& sc = pyr_->block(mx, my);
     const uint64_t w = cover & ~sc & box_bits(level, mx, my);
@@ -317,7 +341,7 @@ bool HierTiler::tile_cell(int level, int mx, int my, const Edges& in, CoverageWr
     uint64_t& sc = pyr_->block(mx, my);
     uint64_t w = pc & ~sc;
     const uint64_t todo = ~(sc | pc | pv) & box_bits(level, mx, my);  // no sample outside the box is covered
-    if (todo != 0) w |= exact_samples(act, todo);
+    if (todo != 0) w |= exact_samples(act, todo, mx, my);
     if (w == 0) return true;
     sc |= w;
     return writer.write_block(w, mx << s, my << s);
@@ -361,7 +385,7 @@ bool HierTiler::query_cell(int level, int mx, int my, const Edges& in) const {
     const uint64_t sc = pyr_->block(mx, my);
     if ((pc & ~sc) != 0) return true;
     const uint64_t todo = ~(sc | pc | pv);
-    return todo != 0 && exact_samples(act, todo) != 0;
+    return todo != 0 && exact_samples(act, todo, mx, my) != 0;
   }
   const TriageMask& sm = pyr_->mask(level, mx, my);
   // A subcell that is not covered holds at least one uncovered sample (propagation keeps it so).
@@ -560,7 +584,7 @@ TileResult HierTiler::tile(const ConvexPoly& poly, CoverageWriter& writer) {
   by1_ = poly.max_y;
   if (poly.min_x > poly.max_x || poly.min_y > poly.max_y) return TileResult::Hidden;
   TileResult small;
-  if (poly.max_x - poly.min_x < kSmallBoxSamples && poly.max_y - poly.min_y < kSmallBoxSamples &&
+  if (jitter_f_ == 0 && poly.max_x - poly.min_x < kSmallBoxSamples && poly.max_y - poly.min_y < kSmallBoxSamples &&
       tile_small(poly, writer, &small))
     return small;
   int level, mx, my;

@@ -37,8 +37,10 @@ void poly_from_setup(const TriangleSetup& setup, ConvexPoly* out);
 
 // The polygon of a set-up triangle sampled factor x factor times a pixel (factor 1, 2, 4 or 8): the
 // same edges, the box in samples (width and height in pixels; sample pitch 256 / factor subpixels).
+// jittered: samples lie anywhere inside their sub-cells (core/jitter.h), so the box holds every
+// sample whose cell meets the triangle's bounds.
 void poly_in_samples(const ScreenTriangle& tri, const TriangleSetup& setup, int factor, int width,
-                     int height, ConvexPoly* out);
+                     int height, ConvexPoly* out, bool jittered = false);
 
 // Receives every block of samples that tiling (or the background pass) newly covers. Each sample is
 // handed over at most once per frame. Returning false aborts the frame.
@@ -83,6 +85,12 @@ class HierTiler {
   // the screen's size); the pyramid's row 0 is the top of its row work_row0 (the band's top row).
   // cells_visited keeps counting across init calls (one frame, many bands).
   void init(Pyramid* pyramid, int32_t pitch, WorkImage* work, int work_row0 = 0);
+  // Jittered samples (core/jitter.h) for f samples a pixel per axis and this seed; f = 0: the regular
+  // grid. Coverage at the finest level is then decided sample by sample at the jittered positions.
+  void jitter(int f, uint32_t seed) {
+    jitter_f_ = f;
+    jitter_seed_ = seed;
+  }
 
   // Tiles one polygon, front to back: Hidden when the bounding-box test proves it invisible
   // (nothing visited), Failed when the writer refused a write.
@@ -123,7 +131,8 @@ class HierTiler {
   };
   static bool edges_mask(const Edges& in, int64_t side, Edges* crossing, uint64_t* pc, uint64_t* pv);
   bool poly_mask(int level, const Edges& in, Edges* crossing, uint64_t* pc, uint64_t* pv) const;
-  uint64_t exact_samples(const Edges& edges, uint64_t todo) const;
+  uint64_t exact_samples(const Edges& edges, uint64_t todo, int bx, int by) const;
+  void sample_offset(int gx, int gy, int64_t* x, int64_t* y) const;
   bool block_samples(const Edges& in, uint64_t* out) const;
   bool tile_cell(int level, int mx, int my, const Edges& in, CoverageWriter& writer);
   bool tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result);
@@ -140,6 +149,8 @@ class HierTiler {
   int32_t pitch_ = 256;
   WorkImage* work_ = nullptr;
   int work_row0_ = 0;
+  int jitter_f_ = 0;
+  uint32_t jitter_seed_ = 0;
   // Sample box of the polygon being tiled or queried (inclusive).
   int32_t bx0_ = 0, by0_ = 0, bx1_ = -1, by1_ = -1;
 };

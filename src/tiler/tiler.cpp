@@ -42,7 +42,7 @@ struct PixelSum {
 
 // Turns newly covered sample blocks (band-local rows) into band-buffer writes of the current piece's
 // colours. Colours are computed on the first write, so hidden pieces cost no shading.
-class BandWriter : public CoverageWriter, public SourceColours {
+class BandWriter : public CoverageWriter {
  public:
   BandWriter(BandOutput& out, Stats* stats, Pixel* row) : out_(out), stats_(stats), row_(row) {}
 
@@ -96,7 +96,7 @@ class BandWriter : public CoverageWriter, public SourceColours {
   bool write(int x, int band_y, int w, int h) override {
     first_write();
     if (cosine_) {
-      cosine_->add_samples(x, band_y, w, h, *this);
+      cosine_->add_samples(x, band_y, w, h, colours_);
       return true;
     }
     if (factor_ > 1) {
@@ -110,7 +110,7 @@ class BandWriter : public CoverageWriter, public SourceColours {
     if (factor_ == 1) return CoverageWriter::write_block(mask, x, band_y);
     first_write();
     if (cosine_) {
-      cosine_->add_block(mask, x, band_y, *this);
+      cosine_->add_block(mask, x, band_y, colours_);
       return true;
     }
     // The block holds (8 / f)^2 pixels of f x f samples each.
@@ -184,12 +184,19 @@ class BandWriter : public CoverageWriter, public SourceColours {
     return rgb(ch[0], ch[1], ch[2]);
   }
 
-  // SourceColours, for the cosine filter.
-  bool flat(Pixel* c) override {
-    *c = colors_.flat;
-    return !colors_.smooth && texture_ == kNone;
-  }
-  Pixel colour_at(int px, int py) override { return color_at(px, py); }
+  // The current piece's colours as the cosine filter asks for them.
+  class Colours final : public SourceColours {
+   public:
+    explicit Colours(BandWriter* w) : w_(w) {}
+    bool flat(Pixel* c) override {
+      *c = w_->colors_.flat;
+      return !w_->colors_.smooth && w_->texture_ == kNone;
+    }
+    Pixel colour_at(int px, int py) override { return w_->color_at(px, py); }
+
+   private:
+    BandWriter* w_;
+  };
 
   // Colour of the current piece (or the background) at pixel (px, py) of the frame, textured.
   Pixel color_at(int px, int py) {
@@ -285,6 +292,7 @@ class BandWriter : public CoverageWriter, public SourceColours {
   int factor_ = 1, factor_bits_ = 0, width_ = 0;
   uint64_t pixel_mask_ = 0;
   PixelSum* sums_ = nullptr;
+  Colours colours_{this};
   SampleFilter* cosine_ = nullptr;
   int top_ = 0;
   const Scene* scene_ = nullptr;
@@ -503,6 +511,10 @@ int sample_factor(const RenderOptions& options) {
   return options.shading == ShadingMode::Ids ? 1 : options.aa;
 }
 
+bool jittered(const RenderOptions& options) {
+  return sample_factor(options) > 1 && options.samples == SamplePattern::Jittered;
+}
+
 bool uses_cosine(const RenderOptions& options) {
   return sample_factor(options) > 1 && options.filter == FilterKind::Cosine;
 }
@@ -531,6 +543,8 @@ Status check_options(const Camera& camera, const RenderOptions& options) {
     return error(StatusCode::Unsupported, "the tiler takes 1, 2, 4 or 8 samples a pixel per axis (aa)");
   if (options.filter == FilterKind::Cosine && options.aa == 1 && options.shading != ShadingMode::Ids)
     return error(StatusCode::Unsupported, "the cosine filter needs samples: aa 2, 4 or 8");
+  if (options.samples == SamplePattern::Jittered && options.aa == 1 && options.shading != ShadingMode::Ids)
+    return error(StatusCode::Unsupported, "jittered samples need aa 2, 4 or 8");
   if (options.shading == ShadingMode::Lines)
     return error(StatusCode::Unsupported, "the tiler has no hidden-line mode (use the scanline renderer)");
   if (camera.width < 1 || camera.height < 1 || camera.width > kMaxScreenDim ||
@@ -755,6 +769,7 @@ Status TilerFrame::render_band(int band, Arena& arena) {
   pyramid_.clear();
   st_->pyramid_bytes = max_of(st_->pyramid_bytes, layout.bytes());
   tiler_.init(&pyramid_, kSubpixelOne / band_.factor, options_.work, band_.top);
+  tiler_.jitter(jittered(options_) ? band_.factor : 0, options_.seed);
   writer_->begin_band(band_.top, band_.rows);
   if (uses_cosine(options_)) cosine_->begin_band(band_.top, out_.band_height(band));
   texture_plan_.at_band(band, out_.band_rows(), band_.top, band_.rows);
@@ -946,7 +961,7 @@ bool TilerFrame::draw_piece(uint32_t index) {
     TriangleSetup setup;
     setup_triangle(parts[i], camera_.width, camera_.height, &setup);
     ConvexPoly poly;
-    poly_in_samples(parts[i], setup, f, camera_.width, camera_.height, &poly);
+    poly_in_samples(parts[i], setup, f, camera_.width, camera_.height, &poly, jittered(options_));
     ConvexPoly box;  // the band's part of the box alone (no edges copied)
     if (!band_.clip_box(poly, &box)) continue;
     if (n == 1 && split && tiler_.box_visible(box)) {
@@ -955,7 +970,7 @@ bool TilerFrame::draw_piece(uint32_t index) {
         TriangleSetup whole_setup;
         setup_triangle(whole[0], camera_.width, camera_.height, &whole_setup);
         ConvexPoly whole_poly;
-        poly_in_samples(whole[0], whole_setup, f, camera_.width, camera_.height, &whole_poly);
+        poly_in_samples(whole[0], whole_setup, f, camera_.width, camera_.height, &whole_poly, jittered(options_));
         clip_to_triangle(view_, parts[0], whole_poly, f, camera_.width * f, camera_.height * f, &poly);
       }
     }

@@ -118,6 +118,9 @@ Status make_view(const Camera& camera, View* out) {
     return error(StatusCode::InvalidArgument, "field of view must be 1..170 degrees");
   if (camera.near <= 0 || camera.near >= (1 << (kViewLimitBits - kViewFractionBits)))
     return error(StatusCode::InvalidArgument, "near plane must be positive and below 2^26 world units");
+  if (camera.sample_shift_x <= -kSubpixelOne || camera.sample_shift_x >= kSubpixelOne ||
+      camera.sample_shift_y <= -kSubpixelOne || camera.sample_shift_y >= kSubpixelOne)
+    return error(StatusCode::InvalidArgument, "sample shift must be less than a pixel");
   if (!in_world_range(camera.eye) || !in_world_range(camera.target))
     return error(StatusCode::InvalidArgument, "camera eye or target outside the world range");
   const Vec3i look{camera.target.x - camera.eye.x, camera.target.y - camera.eye.y, camera.target.z - camera.eye.z};
@@ -137,8 +140,8 @@ Status make_view(const Camera& camera, View* out) {
   const int64_t tan_half = tan_deg_q16(camera.fov_deg_q16 / 2);
   // focal length (pixels) = (height / 2) / tan(fov / 2); in 1/256 pixel.
   v.focal_q8 = div_round((int64_t(camera.height) << (kSubpixelBits - 1)) << kAngleBits, tan_half);
-  v.center_x = camera.width << (kSubpixelBits - 1);
-  v.center_y = camera.height << (kSubpixelBits - 1);
+  v.center_x = (camera.width << (kSubpixelBits - 1)) - camera.sample_shift_x;
+  v.center_y = (camera.height << (kSubpixelBits - 1)) - camera.sample_shift_y;
   v.width = camera.width;
   v.height = camera.height;
   *out = v;

@@ -32,6 +32,11 @@ struct Camera {
   int32_t fov_deg_q16 = 45 << 16;  // vertical field of view, [1, 170] degrees
   int32_t near = 1;             // near plane distance, world units, > 0
   int width = 0, height = 0;    // screen in pixels (or samples, when a renderer oversamples), 1..kMaxScreenDim
+  // Where a pixel samples the scene: subpixel (256 px + 128 + sample_shift_x, ...) of the unshifted
+  // picture, |shift| < 256 (the screen moves by whole subpixels after projection, so coverage is the
+  // unshifted edge functions' at the shifted point exactly). A renderer at one sample a pixel draws
+  // any one sample of a pattern this way (core/jitter.h).
+  int32_t sample_shift_x = 0, sample_shift_y = 0;
 };
 
 struct View {

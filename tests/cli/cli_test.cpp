@@ -66,7 +66,8 @@ TEST(CliUsage, BadValuesExitTwoWithOneLine) {
       {"--eye", "inf,0,0"},    {"--eye", "1e30,0,0"},  {"--up", "0,0,0"},         {"--seed", "-1"},
       {"--near", "-1"},        {"--arena", "lots"},    {"--shading", "lines"},    {"--aa", "3"},
       {"--renderer", "scanline", "--work", "w.png"},  {"--eye", "0,0,0", "--target", "0,0,0"},
-      {"--filter", "gauss"},   {"--filter", "cosine"}, {"--filter", "cosine", "--aa", "4", "--renderer", "scanline"}};
+      {"--filter", "gauss"},   {"--filter", "cosine"}, {"--filter", "cosine", "--aa", "4", "--renderer", "scanline"},
+      {"--samples", "random"}, {"--samples", "jittered"}, {"--samples", "jittered", "--aa", "4", "--renderer", "scanline"}};
   for (const auto& c : cases) {
     std::vector<std::string> args{"render"};
     args.insert(args.end(), c.begin(), c.end());
@@ -213,13 +214,14 @@ TEST_F(CliTemp, ScanlineRendersWithAntialiasingAndLines) {
   }
 }
 
-// The tiler's cosine-hump filter: every pixel once, a different picture from the box filter's.
+// The tiler's cosine-hump filter (on jittered samples): every pixel once, a different picture from the
+// box filter's.
 TEST_F(CliTemp, TilerCosineFilterRendersEveryPixelOnce) {
   std::vector<uint32_t> pictures[2];
   int i = 0;
   for (const char* filter : {"box", "cosine"}) {
     const RunResult r = run_cli({"render", "--size", "64x48", "--aa", "4", "--filter", filter, "--band-rows", "3",
-                                 "-o", path("f.png"), "--stats"});
+                                 "--samples", "jittered", "-o", path("f.png"), "--stats"});
     ASSERT_EQ(r.exit_code, 0) << filter << ": " << r.describe();
     EXPECT_EQ(json_int(r.out, "pixel_writes"), 64 * 48) << r.out;
     int w = 0, h = 0;

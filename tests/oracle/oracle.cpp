@@ -47,7 +47,7 @@ Result rasterize(const std::vector<Triangle>& triangles, const Camera& cam, cons
   const Vec3 right = normalized(cross(forward, cam.up));
   const Vec3 down = cross(forward, right);
   const double focal = (cam.height / 2.0) / std::tan(cam.vfov_deg * M_PI / 360.0);
-  const double cx = cam.width / 2.0, cy = cam.height / 2.0;
+  const double cx = cam.width / 2.0 - cam.shift_x, cy = cam.height / 2.0 - cam.shift_y;
 
   for (size_t t = 0; t < triangles.size(); ++t) {
     const Triangle& tri = triangles[t];

@@ -27,6 +27,9 @@ struct Camera {
   double vfov_deg = 45;
   int width = 0, height = 0;
   double near = 1;
+  // Pixel (x, y) casts its ray through (x + 0.5 + shift_x, y + 0.5 + shift_y) of the unshifted picture
+  // (src/view's Camera::sample_shift, in pixels).
+  double shift_x = 0, shift_y = 0;
 };
 
 struct Options {

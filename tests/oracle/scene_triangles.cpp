@@ -82,6 +82,8 @@ Camera to_oracle_camera(const ml::Camera& c) {
   o.width = c.width;
   o.height = c.height;
   o.near = c.near;
+  o.shift_x = c.sample_shift_x / 256.0;
+  o.shift_y = c.sample_shift_y / 256.0;
   return o;
 }
 

@@ -133,9 +133,12 @@ TEST(TextureMapping, RowsGiveTheColoursSampleBySample) {
         for (int32_t i = 0; i < len; ++i) {
           int32_t uv[2];
           ml::texture_uv(one, x + i, y, uv);
-          ASSERT_EQ(got[size_t(i)], ml::sample_texture(tex.t, tex.bytes.data(), uv, colour))
-              << "case " << n << " sample " << x + i << "," << y << " table " << table << " format "
-              << int(tex.t.format) << " filter " << int(tex.t.filter);
+          const ml::Pixel want = ml::sample_texture(tex.t, tex.bytes.data(), uv, colour);
+          ASSERT_EQ(got[size_t(i)], want) << "case " << n << " sample " << x + i << "," << y << " table " << table
+                                          << " format " << int(tex.t.format) << " filter " << int(tex.t.filter);
+          if (lut) {
+            ASSERT_EQ(ml::sample_texture(tex.t, tex.bytes.data(), lut, lut_colour, uv, colour), want);
+          }
           ++compared;
         }
         x += len;

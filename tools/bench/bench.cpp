@@ -231,7 +231,7 @@ int usage() {
   fprintf(stderr,
           "usage: bench prepare default|office[:LAYERS]|tessellated[:TRIANGLES]|banded[-plain|-nearest|-bilinear]|FILE|\n"
           "                     plain:FILE|nearest:FILE|bilinear:FILE OUT.mls\n"
-          "       bench frame SCENE.mls tiler|scanline|zbuffer WxH AA[,cosine] [flat|gouraud] [BAND_ROWS [FORMAT]]\n"
+          "       bench frame SCENE.mls tiler|scanline|zbuffer WxH AA[,cosine][,jittered] [flat|gouraud] [BAND_ROWS [FORMAT]]\n"
           "       bench quality SCENE.mls WxH\n");
   return 2;
 }
@@ -294,7 +294,7 @@ int prepare(const std::string& what, const std::string& out) {
 }
 
 int frame(const std::string& path, const std::string& renderer, const std::string& size, int aa,
-          ml::FilterKind filter, ml::ShadingMode shading, const ml::OutputOptions& output) {
+          ml::FilterKind filter, ml::SamplePattern samples, ml::ShadingMode shading, const ml::OutputOptions& output) {
   int w = 0, h = 0;
   if (sscanf(size.c_str(), "%dx%d", &w, &h) != 2 || w < 1 || h < 1 || w > ml::kMaxScreenDim ||
       h > ml::kMaxScreenDim)
@@ -335,6 +335,7 @@ int frame(const std::string& path, const std::string& renderer, const std::strin
   o.shading = shading;
   o.aa = aa;
   o.filter = filter;
+  o.samples = samples;
   o.output = output;
   // The least arena plus what makes the frame faster, as a board with RAM to spare gives it.
   const size_t bytes = ml::render_arena_bytes(scene, camera, o);
@@ -348,11 +349,12 @@ int frame(const std::string& path, const std::string& renderer, const std::strin
     fprintf(stderr, "bench: render failed: %s (%llu)\n", s.message, (unsigned long long)s.value);
     return 1;
   }
-  printf("renderer=%s size=%dx%d aa=%d filter=%s triangles=%u drawn=%u culled=%u cells_visited=%llu cells_per_pixel=%.4f "
+  printf("renderer=%s size=%dx%d aa=%d filter=%s samples=%s triangles=%u drawn=%u culled=%u cells_visited=%llu cells_per_pixel=%.4f "
          "peak_arena_bytes=%u arena_bytes=%zu pyramid_bytes=%u shading_calls=%llu geometry_samples=%llu m_max=%u n=%u "
          "pixel_writes=%llu sink_pixels=%llu bands=%u triangles_tiled=%u split_ratio=%.4f texture_bytes_loaded=%u "
          "texture_bytes_peak=%u texture_loads=%u\n",
-         renderer.c_str(), w, h, aa, filter == ml::FilterKind::Cosine ? "cosine" : "box", scene.triangle_count, stats.triangles_drawn, stats.triangles_culled,
+         renderer.c_str(), w, h, aa, filter == ml::FilterKind::Cosine ? "cosine" : "box",
+         samples == ml::SamplePattern::Jittered ? "jittered" : "regular", scene.triangle_count, stats.triangles_drawn, stats.triangles_culled,
          (unsigned long long)stats.cells_visited, double(stats.cells_visited) / pixels, stats.peak_arena_bytes, bytes,
          stats.pyramid_bytes, (unsigned long long)stats.shading_calls, (unsigned long long)stats.geometry_samples,
          stats.m_max, stats.n, (unsigned long long)stats.pixel_writes, (unsigned long long)sink.pixels_, stats.bands,
@@ -384,13 +386,16 @@ int main(int argc, char** argv) {
   if (argc == 4 && strcmp(argv[1], "quality") == 0) return quality(argv[2], argv[3]);
   if (argc == 4 && strcmp(argv[1], "prepare") == 0) return prepare(argv[2], argv[3]);
   if (argc >= 6 && argc <= 9 && strcmp(argv[1], "frame") == 0) {
-    // AA[,cosine]: samples a pixel per axis, and the tiler's filter.
+    // AA[,cosine][,jittered]: samples a pixel per axis, the tiler's filter and sample pattern.
     const int aa = atoi(argv[5]);
     if (aa < 1 || aa > 8) return usage();
-    const char* comma = strchr(argv[5], ',');
     ml::FilterKind filter = ml::FilterKind::Box;
-    if (comma && strcmp(comma + 1, "cosine") == 0) filter = ml::FilterKind::Cosine;
-    else if (comma) return usage();
+    ml::SamplePattern samples = ml::SamplePattern::Regular;
+    for (const char* c = strchr(argv[5], ','); c; c = strchr(c + 1, ',')) {
+      if (strncmp(c + 1, "cosine", 6) == 0) filter = ml::FilterKind::Cosine;
+      else if (strncmp(c + 1, "jittered", 8) == 0) samples = ml::SamplePattern::Jittered;
+      else return usage();
+    }
     ml::ShadingMode shading = ml::ShadingMode::Flat;
     if (argc >= 7 && strcmp(argv[6], "gouraud") == 0) shading = ml::ShadingMode::Gouraud;
     else if (argc >= 7 && strcmp(argv[6], "flat") != 0) return usage();
@@ -398,7 +403,7 @@ int main(int argc, char** argv) {
     if (argc >= 8) output.band_rows = atoi(argv[7]);
     if (argc >= 9 && !mlhost::parse_format(argv[8], &output.format)) return usage();
     if (output.band_rows < 0) return usage();
-    return frame(argv[2], argv[3], argv[4], aa, filter, shading, output);
+    return frame(argv[2], argv[3], argv[4], aa, filter, samples, shading, output);
   }
   return usage();
 }

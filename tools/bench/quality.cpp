@@ -26,12 +26,13 @@ constexpr ml::Pixel kBackground = 0x202830;
 int channel(uint32_t p, int c) { return int(p >> (16 - 8 * c)) & 0xFF; }
 
 bool render_unlit(const ml::Scene& scene, const ml::Camera& camera, ml::RendererKind renderer, int aa,
-                  ml::FilterKind filter, std::vector<ml::Pixel>* pixels) {
+                  ml::FilterKind filter, ml::SamplePattern samples, std::vector<ml::Pixel>* pixels) {
   ml::RenderOptions o;
   o.renderer = renderer;
   o.shading = ml::ShadingMode::Unlit;
   o.aa = aa;
   o.filter = filter;
+  o.samples = samples;
   o.background = kBackground;
   const size_t bytes = ml::render_arena_bytes(scene, camera, o);
   std::vector<uint64_t> storage(bytes / 8 + 1);
@@ -65,21 +66,22 @@ int quality(const std::string& path, const std::string& size) {
   const std::vector<double> box_ref = oracle::box_filtered_unlit(scene, camera, kReferenceSamples, kBackground);
   const std::vector<double> cosine_ref = oracle::cosine_filtered_unlit(scene, camera, kReferenceSamples, kBackground);
   constexpr ml::FilterKind kBox = ml::FilterKind::Box, kCosine = ml::FilterKind::Cosine;
+  constexpr bool kJit = true;
+  const ml::RendererKind kTiler = ml::RendererKind::Tiler, kScan = ml::RendererKind::Scanline;
   const struct {
     ml::RendererKind kind;
-    const char* name;
     int aa;
     ml::FilterKind filter;
-    bool cosine_reference;
-  } runs[] = {{ml::RendererKind::Tiler, "tiler", 1, kBox, false},       {ml::RendererKind::Tiler, "tiler", 2, kBox, false},
-              {ml::RendererKind::Tiler, "tiler", 4, kBox, false},       {ml::RendererKind::Tiler, "tiler", 8, kBox, false},
-              {ml::RendererKind::Scanline, "scanline", 1, kBox, false}, {ml::RendererKind::Scanline, "scanline", 3, kBox, false},
-              {ml::RendererKind::Scanline, "scanline", 4, kBox, false}, {ml::RendererKind::Tiler, "tiler", 1, kBox, true},
-              {ml::RendererKind::Tiler, "tiler", 8, kBox, true},        {ml::RendererKind::Tiler, "tiler", 4, kCosine, true},
-              {ml::RendererKind::Tiler, "tiler", 8, kCosine, true}};
+    bool jittered, cosine_reference;
+  } runs[] = {{kTiler, 1, kBox, false, false},  {kTiler, 2, kBox, false, false},   {kTiler, 4, kBox, false, false},
+              {kTiler, 8, kBox, false, false},  {kTiler, 4, kBox, kJit, false},    {kTiler, 8, kBox, kJit, false},
+              {kScan, 1, kBox, false, false},   {kScan, 3, kBox, false, false},    {kScan, 4, kBox, false, false},
+              {kTiler, 1, kBox, false, true},   {kTiler, 8, kBox, false, true},    {kTiler, 4, kCosine, false, true},
+              {kTiler, 8, kCosine, false, true}, {kTiler, 8, kCosine, kJit, true}};
   for (const auto& run : runs) {
     std::vector<ml::Pixel> pixels;
-    if (!render_unlit(scene, camera, run.kind, run.aa, run.filter, &pixels)) return 1;
+    const ml::SamplePattern samples = run.jittered ? ml::SamplePattern::Jittered : ml::SamplePattern::Regular;
+    if (!render_unlit(scene, camera, run.kind, run.aa, run.filter, samples, &pixels)) return 1;
     const std::vector<double>& ref = run.cosine_reference ? cosine_ref : box_ref;
     double sum = 0, worst = 0;
     for (size_t i = 0; i < pixels.size(); ++i)
@@ -88,7 +90,8 @@ int quality(const std::string& path, const std::string& size) {
         sum += d * d;
         worst = std::max(worst, d);
       }
-    printf("renderer=%s aa=%d filter=%s reference=%s size=%dx%d rms=%.3f max=%.1f\n", run.name, run.aa,
+    printf("renderer=%s aa=%d samples=%s filter=%s reference=%s size=%dx%d rms=%.3f max=%.1f\n",
+           run.kind == kTiler ? "tiler" : "scanline", run.aa, run.jittered ? "jittered" : "regular",
            run.filter == kCosine ? "cosine" : "box", run.cosine_reference ? "cosine" : "box", w, h,
            std::sqrt(sum / double(pixels.size() * 3)), worst);
   }

@@ -100,11 +100,12 @@ for name in engine office default duck; do
     measure "$name" tiler "$size" 1
   done
 done
-echo "bench: tiler at 8x8 samples a pixel (box and cosine-hump filters)"
+echo "bench: tiler at 8x8 samples a pixel (box and cosine-hump filters, jittered samples)"
 for name in engine default; do
   [ -f "$work/$name.mls" ] || continue
   measure "$name" tiler 320x240 8
   measure "$name" tiler 320x240 8,cosine
+  measure "$name" tiler 320x240 8,jittered
 done
 echo "bench: scanline at 1x1, 3x3, 4x4"
 for name in engine tessellated default duck; do
@@ -132,7 +133,7 @@ for name in engine tessellated default duck; do
 done
 notes+=("- engine 320x240, scanline 1x1 / tiler: $(ratio "${all_ir[engine.scanline.320x240.1]:-}" "${all_ir[engine.tiler.320x240.1]:-}")")
 for name in engine default; do
-  [ -n "${all_ir[$name.tiler.320x240.8]:-}" ] && notes+=("- $name 320x240, tiler 8x8 / 1x1: $(ratio "${all_ir[$name.tiler.320x240.8]}" "${all_ir[$name.tiler.320x240.1]:-}"); 8x8 cosine-hump / 1x1: $(ratio "${all_ir[$name.tiler.320x240.8,cosine]:-}" "${all_ir[$name.tiler.320x240.1]:-}")")
+  [ -n "${all_ir[$name.tiler.320x240.8]:-}" ] && notes+=("- $name 320x240, tiler 8x8 / 1x1: $(ratio "${all_ir[$name.tiler.320x240.8]}" "${all_ir[$name.tiler.320x240.1]:-}"); 8x8 cosine-hump / 1x1: $(ratio "${all_ir[$name.tiler.320x240.8,cosine]:-}" "${all_ir[$name.tiler.320x240.1]:-}"); 8x8 jittered / 1x1: $(ratio "${all_ir[$name.tiler.320x240.8,jittered]:-}" "${all_ir[$name.tiler.320x240.1]:-}")")
 done
 for name in default duck engine; do
   [ -n "${per_tiled_ir[$name.320x240]:-}" ] && notes+=("- $name 320x240, tiler instructions per tiled triangle (frame / Stats::triangles_tiled): ${per_tiled_ir[$name.320x240]}")
