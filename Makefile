@@ -149,7 +149,7 @@ FW_CHECK_CRC ?= 1
 # textures; at -O2 src/texture/ is 21 KB of Thumb-1 code, at -Os 10 KB), and the sampler without its
 # runs specialized by wrap mode (10 KB more): the same integer results.
 fw_opt = $(if $(filter src/texture/%,$(1)),-Os -DML_TEXTURE_RUNS_GENERAL_ONLY)
-FW_ELFS := $(FW)/mps2-an385.elf $(FW)/mps2-an385-calls.elf $(FW)/lm3s6965evb-tiler.elf $(FW)/lm3s6965evb-scanline.elf $(FW)/m0plus.elf
+FW_ELFS := $(FW)/mps2-an385-tiler.elf $(FW)/mps2-an385-scanline.elf $(FW)/mps2-an385-calls.elf $(FW)/lm3s6965evb-tiler.elf $(FW)/lm3s6965evb-scanline.elf $(FW)/m0plus.elf
 
 $(FW)/obj/m3/%.o: %.cpp
 	@mkdir -p $(dir $@)
@@ -195,18 +195,23 @@ $(FW)/config/%.h: | $(FW)/fwtool
 	@mkdir -p $(dir $@)
 	$(FW)/fwtool config $(FW_CONFIG_ARGS_$*) -o $@
 FW_CONFIG_ARGS_mps2 := --size 320x240 --format rgb565
+FW_CONFIG_ARGS_mps2-tiler := --size 320x240 --format rgb565 --renderer tiler
+FW_CONFIG_ARGS_mps2-scanline := --size 320x240 --format rgb565 --renderer scanline
 FW_CONFIG_ARGS_lm3s-tiler := --size 128x64 --format grey4 --renderer tiler
 FW_CONFIG_ARGS_lm3s-scanline := --size 128x64 --format grey4 --renderer scanline
 FW_CONFIG_ARGS_m0plus := --size 128x64 --format grey4 --renderer tiler
 
-$(eval $(call fw_image,$(FW)/mps2-an385.elf,m3,platform/cortex-m/mps2-an385/main.cpp,$(FW)/config/mps2.h,$(FW)/scenes/default.mls,platform/cortex-m/mps2-an385/memory.ld,))
+# One image a renderer, as a product would ship (each links only its renderer); the -calls image
+# renders with both (a diagnostic build: its size is not a product's).
+$(eval $(call fw_image,$(FW)/mps2-an385-tiler.elf,m3,platform/cortex-m/mps2-an385/main.cpp,$(FW)/config/mps2-tiler.h,$(FW)/scenes/default.mls,platform/cortex-m/mps2-an385/memory.ld,))
+$(eval $(call fw_image,$(FW)/mps2-an385-scanline.elf,m3,platform/cortex-m/mps2-an385/main.cpp,$(FW)/config/mps2-scanline.h,$(FW)/scenes/default.mls,platform/cortex-m/mps2-an385/memory.ld,))
 $(eval $(call fw_image,$(FW)/mps2-an385-calls.elf,m3,platform/cortex-m/mps2-an385/main.cpp,$(FW)/config/mps2.h,$(FW)/scenes/default.mls,platform/cortex-m/mps2-an385/memory.ld,$(FW)/obj/m3/platform/cortex-m/common/call_shims.o platform/cortex-m/common/call_count.cpp,$(FW_WRAP)))
 $(eval $(call fw_image,$(FW)/lm3s6965evb-tiler.elf,m3,platform/cortex-m/lm3s6965evb/main.cpp,$(FW)/config/lm3s-tiler.h,$(FW)/scenes/small.mls,platform/cortex-m/lm3s6965evb/memory.ld,$(FW_PANELS) platform/cortex-m/lm3s6965evb/ssi_transport.cpp))
 $(eval $(call fw_image,$(FW)/lm3s6965evb-scanline.elf,m3,platform/cortex-m/lm3s6965evb/main.cpp,$(FW)/config/lm3s-scanline.h,$(FW)/scenes/small.mls,platform/cortex-m/lm3s6965evb/memory.ld,$(FW_PANELS) platform/cortex-m/lm3s6965evb/ssi_transport.cpp))
 $(eval $(call fw_image,$(FW)/m0plus.elf,m0,platform/cortex-m/m0plus/main.cpp,$(FW)/config/m0plus.h,$(FW)/scenes/small.mls,platform/cortex-m/m0plus/memory.ld,))
 
 # tools/board/render-on-qemu: a scene and options of its own in build/firmware/custom/NAME/
-$(FW)/custom/%/mps2-an385.elf: $(FW)/custom/%/config.h $(FW)/custom/%/scene.mls $(call fwo,$(FW_COMMON),m3) $(FW)/obj/m3/libmaskline.a platform/cortex-m/mps2-an385/main.cpp
+$(FW)/custom/%/mps2-an385.elf: $(FW)/custom/%/config.h $(FW)/custom/%/scene.mls $(call fwo,$(FW_COMMON),m3) $(FW)/obj/m3/libmaskline.a platform/cortex-m/mps2-an385/main.cpp $(wildcard src/*/*.h platform/cortex-m/*/*.h)
 	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_m3) -include $(FW)/custom/$*/config.h -c platform/cortex-m/mps2-an385/main.cpp -o $(basename $@)-main.o
 	$(ARM_CXX) $(FW_CPU_m3) -DFW_SCENE_FILE='"$(FW)/custom/$*/scene.mls"' -c platform/cortex-m/common/scene_blob.S -o $(basename $@)-scene.o
 	$(ARM_CXX) $(FW_CPU_m3) $(FW_LD) -T platform/cortex-m/mps2-an385/memory.ld -o $@ $(basename $@)-main.o $(basename $@)-scene.o $(call fwo,$(FW_COMMON),m3) $(FW)/obj/m3/libmaskline.a

@@ -7,7 +7,7 @@
 #   lm3s6965evb QMP screendump of the SSD0323 OLED (512x256) equals `maskline show --display
 #               emu:ssd0323 --zoom 4`, per renderer
 #   microbit    the Cortex-M0+ build's CRC-32 of its frame equals the host's
-#   render-on-qemu with its own camera and options equals `maskline render`
+#   render-on-qemu with its own camera and options (scanline and tiler, antialiased) equals `maskline render`
 #   every ELF   arm-none-eabi-nm shows no soft-float helper
 # Usage: tests/firmware/run.sh BUILD
 # Output: one line per check, "ok NAME: ..." or "not ok NAME: reason"; work files in BUILD/firmware/run/.
@@ -31,12 +31,12 @@ not_ok() { echo "not ok $1: $2"; failed=1; }
 missing=""
 command -v qemu-system-arm >/dev/null || missing="qemu-system-arm is not installed"
 command -v arm-none-eabi-nm >/dev/null || missing="arm-none-eabi-nm is not installed"
-for f in "$fwtool" "$fw/mps2-an385.elf" "$fw/lm3s6965evb-tiler.elf" "$fw/lm3s6965evb-scanline.elf" "$fw/m0plus.elf"; do
+for f in "$fwtool" "$fw/mps2-an385-tiler.elf" "$fw/mps2-an385-scanline.elf" "$fw/lm3s6965evb-tiler.elf" "$fw/lm3s6965evb-scanline.elf" "$fw/m0plus.elf"; do
   [ -e "$f" ] || missing="$f is missing (make firmware)"
 done
 if [ -n "$missing" ]; then
   for n in mps2-tiler-bytes mps2-scanline-bytes mps2-tiler-picture mps2-scanline-picture lm3s-tiler-oled \
-    lm3s-scanline-oled m0plus-microbit-crc render-on-qemu no-soft-float; do
+    lm3s-scanline-oled m0plus-microbit-crc render-on-qemu render-on-qemu-tiler-aa no-soft-float; do
     not_ok "$n" "$missing"
   done
   exit 1
@@ -46,17 +46,17 @@ qemu_semihosting=(-semihosting-config enable=on,target=native -icount shift=0,sl
 
 # ---- mps2-an385: band bytes through semihosting ----------------------------------------------------
 mkdir -p "$run/mps2"
-(cd "$run/mps2" && timeout "$limit" qemu-system-arm -M mps2-an385 -nographic "${qemu_semihosting[@]}" \
-  -kernel "$fw/mps2-an385.elf" >out.txt 2>err.txt)
-rc=$?
 for r in tiler scanline; do
   name="mps2-$r-bytes"
   board="$run/mps2/frame-$r.raw"
-  if [ $rc -ne 0 ]; then not_ok "$name" "QEMU exited with status $rc ($(tail -1 "$run/mps2/out.txt" 2>/dev/null))"; continue; fi
+  (cd "$run/mps2" && timeout "$limit" qemu-system-arm -M mps2-an385 -nographic "${qemu_semihosting[@]}" \
+    -kernel "$fw/mps2-an385-$r.elf" >out-$r.txt 2>err-$r.txt)
+  rc=$?
+  if [ $rc -ne 0 ]; then not_ok "$name" "QEMU exited with status $rc ($(tail -1 "$run/mps2/out-$r.txt" 2>/dev/null))"; continue; fi
   if ! "$fwtool" ref "$fw/scenes/default.mls" --renderer $r --size 320x240 --format rgb565 -o "$run/mps2/host-$r.raw" >>"$run/mps2/host.txt" 2>&1; then
     not_ok "$name" "fwtool ref failed"; continue
   fi
-  instr=$(sed -n "s/^frame $r instructions \([0-9]*\).*/\1/p" "$run/mps2/out.txt")
+  instr=$(sed -n "s/^frame $r instructions \([0-9]*\).*/\1/p" "$run/mps2/out-$r.txt")
   if cmp -s "$board" "$run/mps2/host-$r.raw"; then
     ok "$name" "$(stat -c %s "$board") bytes equal the host's; $instr instructions a frame"
   else
@@ -124,23 +124,29 @@ else
 fi
 
 # ---- tools/board/render-on-qemu: own camera and options, against maskline render -----------------------
-name="render-on-qemu"
-opts=(--renderer scanline --aa 2 --shading gouraud --size 160x120 --eye 6,4,8 --target 0,1,0)
-mkdir -p "$run/render-on-qemu"
-if json=$(env -u MAKEFLAGS -u MAKELEVEL BUILD="$build" MASKLINE_FIRMWARE_TIMEOUT="$limit" \
-  "$here/../../tools/board/render-on-qemu" "$fw/scenes/default.mls" "${opts[@]}" -o "$run/render-on-qemu/board.png" \
-  --stats 2>"$run/render-on-qemu/err.txt"); then
-  "$cli" render "$fw/scenes/default.mls" "${opts[@]}" --format rgb565 -o "$run/render-on-qemu/cli.png" >/dev/null 2>&1
-  if ! out=$("$fwtool" same "$run/render-on-qemu/board.png" "$run/render-on-qemu/cli.png" 2>&1); then
+# render_on_qemu NAME WHAT OPTIONS...: the board's frame with OPTIONS against maskline render's
+render_on_qemu() {
+  local name=$1 what=$2 dir="$run/$1" json out
+  shift 2
+  mkdir -p "$dir"
+  if ! json=$(env -u MAKEFLAGS -u MAKELEVEL BUILD="$build" MASKLINE_FIRMWARE_TIMEOUT="$limit" \
+    "$here/../../tools/board/render-on-qemu" "$fw/scenes/default.mls" "$@" -o "$dir/board.png" --stats 2>"$dir/err.txt"); then
+    not_ok "$name" "failed: $(tail -1 "$dir/err.txt")"
+    return
+  fi
+  "$cli" render "$fw/scenes/default.mls" "$@" --format rgb565 -o "$dir/cli.png" >/dev/null 2>&1
+  if ! out=$("$fwtool" same "$dir/board.png" "$dir/cli.png" 2>&1); then
     not_ok "$name" "$out"
   elif ! [[ "$json" == *'"instructions":'[1-9]* && "$json" == *'"flash_bytes":'[1-9]* && "$json" == *'"ram_high_water_bytes":'[1-9]* ]]; then
     not_ok "$name" "--stats lacks instructions, flash_bytes or ram_high_water_bytes: $json"
   else
-    ok "$name" "160x120 scanline aa 2 gouraud with its own eye equals maskline render ($out)"
+    ok "$name" "$what equals maskline render ($out)"
   fi
-else
-  not_ok "$name" "failed: $(tail -1 "$run/render-on-qemu/err.txt")"
-fi
+}
+render_on_qemu render-on-qemu "160x120 scanline aa 2 gouraud with its own eye" \
+  --renderer scanline --aa 2 --shading gouraud --size 160x120 --eye 6,4,8 --target 0,1,0
+render_on_qemu render-on-qemu-tiler-aa "160x120 tiler aa 4 (box filter) in 8-row bands" \
+  --renderer tiler --aa 4 --band-rows 8 --size 160x120
 
 # ---- no soft-float helper in any ELF ------------------------------------------------------------------
 # Symbol names on stdin; prints the soft-float ones (libgcc's __aeabi_f*/d*/c[fd]*, conversions,

@@ -232,7 +232,6 @@ int cmd_ref(const Options& o) {
   const ml::Camera camera = make_camera(loaded.scene, r);
   ml::RenderOptions opt = r.opt;
   opt.renderer = r.renderers == 2 ? ml::RendererKind::Scanline : ml::RendererKind::Tiler;
-  if (opt.renderer == ml::RendererKind::Tiler) opt.aa = 1;
   const size_t need = ml::render_arena_bytes(loaded.scene, camera, opt);
   std::vector<uint64_t> storage((need + 7) / 8);
   ml::Arena arena(storage.data(), need);

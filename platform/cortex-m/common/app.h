@@ -62,7 +62,7 @@ inline ml::RenderOptions options_for(ml::RendererKind kind) {
   ml::RenderOptions o;
   o.renderer = kind;
   o.shading = ml::ShadingMode(FW_SHADING);
-  o.aa = kind == ml::RendererKind::Tiler ? 1 : FW_AA;
+  o.aa = FW_AA;
   o.output.format = ml::PixelFormat(FW_FORMAT);
   o.output.dither = FW_DITHER != 0;
   o.output.band_rows = FW_BAND_ROWS;
@@ -123,6 +123,13 @@ inline void print_stats(ml::RendererKind k, const ml::Stats& s, uint64_t instruc
   print_field("m_max", s.m_max);
   print_field("geometry_samples", s.geometry_samples);
   print_field("sort_instructions", s.sort_instructions);
+  print_field("texture_loads", s.texture_loads);
+  print_field("texture_reloads", s.texture_reloads);
+  print_field("texture_evictions", s.texture_evictions);
+  print_field("texture_fallbacks", s.texture_fallbacks);
+  print_field("texture_bytes_loaded", s.texture_bytes_loaded);
+  print_field("texture_bytes_peak", s.texture_bytes_peak);
+  print_field("textures_resident_peak", s.textures_resident_peak);
   print("}\n");
 }
 
@@ -149,6 +156,18 @@ inline size_t arena_bytes_configured(const ml::Scene& scene, const ml::Camera& c
 #else
   return ml::render_arena_bytes(scene, camera, o);
 #endif
+}
+
+// A textured scene whose textures do not all fit the arena beside the renderer gets the pool that is
+// left (the pager reloads, or draws a texture larger than the pool in its material's colour) instead
+// of a failed frame. An untextured scene, or one that fits, keeps the whole-set pool.
+inline void fit_texture_pool(const ml::Scene& scene, const ml::Camera& camera, ml::RenderOptions* o) {
+  const size_t arena = make_arena().size();
+  if (arena_bytes_configured(scene, camera, *o) <= arena) return;
+  ml::RenderOptions without = *o;
+  without.texture_pool_bytes = 0;
+  const size_t base = arena_bytes_configured(scene, camera, without);
+  if (base < arena) o->texture_pool_bytes = uint32_t(arena - base);
 }
 
 // Renders one frame into `sink`; prints a failure. Returns the instructions it took (ticks times the

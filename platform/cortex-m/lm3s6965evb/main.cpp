@@ -39,7 +39,8 @@ int main() {
   }
   const ml::Camera camera = fw::camera_for(scene);
   const ml::RendererKind k = (FW_RENDERERS & 1) ? ml::RendererKind::Tiler : ml::RendererKind::Scanline;
-  const ml::RenderOptions o = fw::options_for(k);
+  ml::RenderOptions o = fw::options_for(k);
+  fw::fit_texture_pool(scene, camera, &o);
   fw::print_kv("arena_needed", fw::arena_bytes_configured(scene, camera, o));
 
   ml::Stats stats;

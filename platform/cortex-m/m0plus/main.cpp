@@ -36,7 +36,8 @@ int main() {
   if (!fw::load_scene(&scene)) return 1;
   const ml::Camera camera = fw::camera_for(scene);
   const ml::RendererKind k = (FW_RENDERERS & 1) ? ml::RendererKind::Tiler : ml::RendererKind::Scanline;
-  const ml::RenderOptions o = fw::options_for(k);
+  ml::RenderOptions o = fw::options_for(k);
+  fw::fit_texture_pool(scene, camera, &o);
   CrcSink sink;
   ml::Stats stats;
   const uint64_t ticks = fw::render_frame(scene, camera, o, sink, &stats, kInstructionsPerTick);

@@ -101,7 +101,8 @@ int main() {
   const ml::RendererKind kinds[2] = {ml::RendererKind::Tiler, ml::RendererKind::Scanline};
   for (ml::RendererKind k : kinds) {
     if (!(FW_RENDERERS & (k == ml::RendererKind::Tiler ? 1 : 2))) continue;
-    const ml::RenderOptions o = fw::options_for(k);
+    ml::RenderOptions o = fw::options_for(k);
+    fw::fit_texture_pool(scene, camera, &o);
     fw::print_kv(k == ml::RendererKind::Tiler ? "arena_needed tiler" : "arena_needed scanline",
                  fw::arena_bytes_configured(scene, camera, o));
     ml::Stats stats;
