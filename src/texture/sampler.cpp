@@ -152,16 +152,67 @@ void piece_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexe
   }
 }
 
+// wrap() with the mode known when compiling.
+template <TextureWrap M>
+__attribute__((always_inline)) inline int32_t wrap_as(int64_t i, int32_t size) {
+  if (M == TextureWrap::ClampToEdge) return int32_t(i < 0 ? 0 : (i >= size ? size - 1 : i));
+  if (M == TextureWrap::MirroredRepeat) {
+    const int32_t m = int32_t(i) & (2 * size - 1);  // two's complement: the period is 2n for negative i too
+    return m < size ? m : 2 * size - 1 - m;
+  }
+  return int32_t(i) & (size - 1);
+}
+
+// Nearest filtering, both axes' wrap modes fixed (mirrored and clamped textures: no mode tests per
+// sample); the table gives texels modulated by the colour.
+template <TexelFormat F, TextureWrap S, TextureWrap T>
+void nearest_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& texture, const uint8_t* bytes,
+                 const Pixel* lut, int64_t j, int32_t n, Pixel* out) {
+  const LutTexels<F> fetch(texture, bytes, lut, p.size_bits[0]);
+  const int32_t width = texture.width, height = texture.height;
+  const int bits = pc.bits;
+  int64_t au = int64_t(pc.uv[0]) * (int64_t(1) << bits) + pc.step[0] * j;
+  int64_t av = int64_t(pc.uv[1]) * (int64_t(1) << bits) + pc.step[1] * j;
+  const int64_t su = pc.step[0], sv = pc.step[1];
+  const int shift_u = bits + 16 - p.size_bits[0], shift_v = bits + 16 - p.size_bits[1];
+  for (int32_t i = 0; i < n; ++i, au += su, av += sv)
+    out[i] = fetch(wrap_as<S>(au >> shift_u, width), wrap_as<T>(av >> shift_v, height));
+}
+
+template <TexelFormat F, TextureWrap S>
+__attribute__((noinline)) bool nearest_run_s(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes,
+                   const Pixel* lut, int64_t j, int32_t n, Pixel* out) {
+  switch (TextureWrap(t.wrap_t)) {
+    case TextureWrap::Repeat: nearest_run<F, S, TextureWrap::Repeat>(pc, p, t, bytes, lut, j, n, out); return true;
+    case TextureWrap::MirroredRepeat:
+      nearest_run<F, S, TextureWrap::MirroredRepeat>(pc, p, t, bytes, lut, j, n, out);
+      return true;
+    case TextureWrap::ClampToEdge:
+      nearest_run<F, S, TextureWrap::ClampToEdge>(pc, p, t, bytes, lut, j, n, out);
+      return true;
+    default: return false;
+  }
+}
+
 template <TexelFormat F>
-void piece_run_of(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes,
+__attribute__((always_inline)) inline void piece_run_of(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes,
                   const Pixel* lut, Pixel after, int64_t j, int32_t n, Pixel* out) {
   const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
   if (t.filter == uint8_t(TextureFilter::Bilinear)) {
     if (repeat) piece_run<F, true, true>(pc, p, t, bytes, lut, after, j, n, out);
     else piece_run<F, true, false>(pc, p, t, bytes, lut, after, j, n, out);
+  } else if (repeat) {
+    piece_run<F, false, true>(pc, p, t, bytes, lut, after, j, n, out);
   } else {
-    if (repeat) piece_run<F, false, true>(pc, p, t, bytes, lut, after, j, n, out);
-    else piece_run<F, false, false>(pc, p, t, bytes, lut, after, j, n, out);
+    bool done = false;
+    if (after == 0xFFFFFF) {
+      if (t.wrap_s == uint8_t(TextureWrap::Repeat)) done = nearest_run_s<F, TextureWrap::Repeat>(pc, p, t, bytes, lut, j, n, out);
+      if (t.wrap_s == uint8_t(TextureWrap::MirroredRepeat))
+        done = nearest_run_s<F, TextureWrap::MirroredRepeat>(pc, p, t, bytes, lut, j, n, out);
+      if (t.wrap_s == uint8_t(TextureWrap::ClampToEdge))
+        done = nearest_run_s<F, TextureWrap::ClampToEdge>(pc, p, t, bytes, lut, j, n, out);
+    }
+    if (!done) piece_run<F, false, false>(pc, p, t, bytes, lut, after, j, n, out);
   }
 }
 
