@@ -669,8 +669,8 @@ class TilerFrame {
   // True when no sample of the band that a piece of the node's subtree could write is still
   // uncovered (or the subtree has no pieces).
   bool subtree_hidden(const BspNode& node);
-  // Projects, culls and tiles one piece into the band's pyramid.
-  Status draw_piece(uint32_t index);
+  // Projects, culls and tiles one piece into the band's pyramid; false when the sink refused a write.
+  bool draw_piece(uint32_t index);
   // The plan byte of a piece facing the eye, from its world vertices.
   uint8_t plan_bands(const Vec3i world[3]) const;
   // Plans each texture's rows from the textured triangles' projected extent, and its first and last
@@ -885,8 +885,7 @@ Status TilerFrame::walk_bsp() {
     }
     for (uint32_t p = node.first_piece; p < node.first_piece + node.piece_count; ++p) {
       texture_plan_.at_piece(pieces_done++);
-      const Status s = draw_piece(p);
-      if (!s.ok()) return s;
+      if (!draw_piece(p)) return error(StatusCode::SinkFailed, "sink refused a write");
       if (writer_->wrote_piece()) ++st_->triangles_drawn; else ++st_->triangles_culled;
     }
     if (far != kNone) f = far; else --sp;
@@ -929,11 +928,11 @@ uint8_t TilerFrame::plan_bands(const Vec3i world[3]) const {
   return plan_.make(halo_first <= 0 ? 0 : int(halo_first) / rows, int(min_of<int64_t>(last, height - 1)) / rows);
 }
 
-Status TilerFrame::draw_piece(uint32_t index) {
+bool TilerFrame::draw_piece(uint32_t index) {
   writer_->clear_piece();
   uint8_t* planned = plan_.active() ? &plan_.at(index) : nullptr;
   const bool known = planned && *planned != BandPlan::kUnknown;
-  if (known && !plan_.has(*planned, band_index_)) return ok_status();  // culled, or not in this band
+  if (known && !plan_.has(*planned, band_index_)) return true;  // culled, or not in this band
   const BspPiece piece = bsp_piece(scene_, index);
   const Triangle tri = triangle_at(scene_, piece.triangle);
   const Material& mat = scene_.materials[scene_.batches[tri.batch].material];
@@ -945,20 +944,22 @@ Status TilerFrame::draw_piece(uint32_t index) {
   const int facing = known && !mat.double_sided ? 1 : triangle_facing(view_, whole_world);
   if (facing == 0 || (facing < 0 && !mat.double_sided)) {
     if (planned) *planned = BandPlan::kNoBand;
-    return ok_status();
+    return true;
   }
   const bool split = is_split_piece(piece, tri);
-  Vec3i world[3];
-  for (int i = 0; i < 3; ++i) world[i] = split ? vertex_world(scene_, tri.batch, piece.v[i]) : whole_world[i];
+  Vec3i split_world[3];
+  if (split)
+    for (int i = 0; i < 3; ++i) split_world[i] = vertex_world(scene_, tri.batch, piece.v[i]);
+  const Vec3i* world = split ? split_world : whole_world;
   if (planned && !known) {
     *planned = plan_bands(world);
-    if (!plan_.has(*planned, band_index_)) return ok_status();
+    if (!plan_.has(*planned, band_index_)) return true;
   }
   // Outside this band: skipped before projecting (most pieces, with many bands); an exact plan has
   // answered that already.
   if (band_.rows < camera_.height && !(planned && plan_.exact()) &&
       triangle_outside_rows(view_, world, band_.top, band_.top + band_.rows - 1))
-    return ok_status();
+    return true;
   ScreenTriangle parts[kMaxClipTriangles];
   const int n = project_triangle(view_, world, facing, parts, false);  // the tiler reads no depths
   writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0);
@@ -984,9 +985,9 @@ Status TilerFrame::draw_piece(uint32_t index) {
     ++st_->triangles_tiled;
     writer_->begin_part(&parts[i]);
     if (tiler_.tile(poly, *writer_) == TileResult::Failed)
-      return error(StatusCode::SinkFailed, "sink refused a write");
+      return false;
   }
-  return ok_status();
+  return true;
 }
 
 }  // namespace
