@@ -205,6 +205,9 @@ __attribute__((always_inline)) inline void piece_run_of(const TexturePiece& pc, 
     piece_run<F, false, true>(pc, p, t, bytes, lut, after, j, n, out);
   } else {
     bool done = false;
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+    // ML_TEXTURE_RUNS_GENERAL_ONLY (set by the firmware build, Makefile fw_opt): no runs specialized by
+    // wrap mode (nine instances, about 10 KB of Cortex-M code); the general run below gives the same texels.
     if (after == 0xFFFFFF) {
       if (t.wrap_s == uint8_t(TextureWrap::Repeat)) done = nearest_run_s<F, TextureWrap::Repeat>(pc, p, t, bytes, lut, j, n, out);
       if (t.wrap_s == uint8_t(TextureWrap::MirroredRepeat))
@@ -212,6 +215,7 @@ __attribute__((always_inline)) inline void piece_run_of(const TexturePiece& pc, 
       if (t.wrap_s == uint8_t(TextureWrap::ClampToEdge))
         done = nearest_run_s<F, TextureWrap::ClampToEdge>(pc, p, t, bytes, lut, j, n, out);
     }
+#endif
     if (!done) piece_run<F, false, false>(pc, p, t, bytes, lut, after, j, n, out);
   }
 }

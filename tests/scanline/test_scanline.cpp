@@ -681,6 +681,49 @@ TEST(ScanlineAa, ReproducibleWithSeedAndSmoothEdges) {
   EXPECT_GT(c3.size(), 6u);
 }
 
+// Flat and Unlit surfaces have one colour each: keepObj's reuse is exact, so no stochastic or forced
+// re-shading runs (docs/scanline.md, one colour a surface). Neither the picture nor the number of
+// shading calls depends on the seed then (at a Gouraud surface both do: ReproducibleWithSeed...).
+TEST(ScanlineAa, OneColourSurfacesIgnoreTheSeed) {
+  BuiltScene b = sphere_scene();
+  const ml::Camera cam = camera_at({0, 500, 3200}, {0, 0, 0}, 90, 70);
+  for (ml::ShadingMode mode : {ml::ShadingMode::Flat, ml::ShadingMode::Unlit}) {
+    for (int aa : {2, 3, 4}) {
+      Result a, c;
+      render(b.scene, cam, options(mode, aa, 7), &a);
+      render(b.scene, cam, options(mode, aa, 8), &c);
+      ASSERT_TRUE(a.status.ok() && c.status.ok());
+      EXPECT_EQ(a.sink.image, c.sink.image) << int(mode) << " aa " << aa;
+      EXPECT_EQ(a.stats.shading_calls, c.stats.shading_calls) << int(mode) << " aa " << aa;
+    }
+  }
+}
+
+// The scanline renderer's own entry (what a firmware image of this renderer alone links) gives
+// render()'s frame, stats and arena size, whatever options.renderer says.
+TEST(ScanlineRender, OwnEntryMatchesRender) {
+  BuiltScene b = sphere_scene();
+  const ml::Camera cam = camera_at({0, 500, 3200}, {0, 0, 0}, 64, 48);
+  for (ml::ShadingMode mode : {ml::ShadingMode::Flat, ml::ShadingMode::Ids}) {
+    Result whole;
+    render(b.scene, cam, options(mode, mode == ml::ShadingMode::Ids ? 1 : 3), &whole);
+    ASSERT_TRUE(whole.status.ok());
+    ml::RenderOptions other = options(mode, mode == ml::ShadingMode::Ids ? 1 : 3);
+    other.renderer = ml::RendererKind::Tiler;  // ignored by the entry
+    const size_t bytes = ml::render_scanline_arena_bytes(b.scene, cam, other);
+    EXPECT_EQ(bytes, whole.bytes);
+    std::vector<uint64_t> storage(bytes / 8 + 2);
+    ml::Arena arena(storage.data(), bytes);
+    Result one;
+    one.status = ml::render_scanline(b.scene, cam, other, arena, one.sink, &one.stats);
+    ASSERT_TRUE(one.status.ok());
+    EXPECT_EQ(one.sink.image, whole.sink.image);
+    EXPECT_EQ(one.stats.shading_calls, whole.stats.shading_calls);
+    EXPECT_EQ(one.stats.sink_calls, whole.stats.sink_calls);
+    EXPECT_EQ(one.stats.samples_per_pixel, whole.stats.samples_per_pixel);
+  }
+}
+
 TEST(ScanlineAa, ShadingReuseOnSmoothModel) {
   BuiltScene b = sphere_scene(32, 64);
   const ml::Camera cam = camera_at({0, 500, 2600}, {0, 0, 0}, 160, 120);

@@ -439,6 +439,34 @@ TEST(TilerRender, BandPlanGivesTheSameFrameAsTheLeastArena) {
   }
 }
 
+// The tiler's own entry (what a firmware image of the tiler alone links) gives render()'s frame,
+// stats and arena size, whatever options.renderer says.
+TEST(TilerRender, OwnEntryMatchesRender) {
+  std::mt19937 rng(78);
+  tiler_test::TestScene ts;
+  ts.build(tiler_test::random_scene(rng, 60, 120));
+  const ml::Camera cam = tiler_test::test_camera(96, 64);
+  for (ml::ShadingMode mode : {ml::ShadingMode::Flat, ml::ShadingMode::Ids}) {
+    Frame whole = render(ts.scene, cam, mode);
+    ASSERT_TRUE(whole.status.ok());
+    ml::RenderOptions other;
+    other.shading = mode;
+    other.renderer = ml::RendererKind::Scanline;  // ignored by the entry
+    ml::RenderOptions plain;
+    plain.shading = mode;
+    const size_t bytes = ml::render_tiler_arena_bytes(ts.scene, cam, other);
+    EXPECT_EQ(bytes, ml::render_arena_bytes(ts.scene, cam, plain));
+    std::vector<uint8_t> mem(bytes, mlhost::kPoisonByte);
+    ml::Arena arena(mem.data(), mem.size());
+    Frame one;
+    one.status = ml::render_tiler(ts.scene, cam, other, arena, one.sink, &one.stats);
+    ASSERT_TRUE(one.status.ok());
+    EXPECT_EQ(one.sink.image, whole.sink.image);
+    EXPECT_EQ(one.stats.triangles_tiled, whole.stats.triangles_tiled);
+    EXPECT_EQ(one.stats.sink_calls, whole.stats.sink_calls);
+  }
+}
+
 // Colours: every pixel of a Flat or Gouraud frame is the colour src/shade gives its owner (from
 // the Ids frame) at that pixel: flat colour, or ColorPlanes::at for smooth triangles.
 TEST(TilerRender, ColoursMatchShadeForTheOwner) {
