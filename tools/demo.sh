@@ -22,10 +22,12 @@ render "bundled scene, scanline, 3x3 samples per pixel" --renderer scanline --aa
   -o "$out/default-scanline-aa3.png"
 render "bundled scene, tiler, 8x8 samples per pixel (box filter)" --aa 8 --size 640x480 \
   -o "$out/default-tiler-aa8.png"
-# Point-sampled beside antialiased, a detail enlarged 4 times.
+render "bundled scene, tiler, 8x8 jittered samples per pixel (cosine-hump filter)" --aa 8 --filter cosine \
+  --samples jittered --size 640x480 -o "$out/default-tiler-aa8-cosine.png"
+# Point-sampled beside antialiased (box, then cosine-hump on jittered samples), a detail enlarged 4 times.
 "$build/side_by_side" "$out/default-tiler-vs-aa8.png" --crop 240,180,160,120 --zoom 4 \
-  "$out/default-tiler.png" "$out/default-tiler-aa8.png"
-echo "== point-sampled (left) and 8x8 antialiased (right) tiler, detail 4x: $out/default-tiler-vs-aa8.png"
+  "$out/default-tiler.png" "$out/default-tiler-aa8.png" "$out/default-tiler-aa8-cosine.png"
+echo "== point-sampled (left), 8x8 box-filtered (middle) and 8x8 jittered cosine-hump-filtered (right) tiler, detail 4x: $out/default-tiler-vs-aa8.png"
 if [ -f "$engine" ]; then
   render "2CylinderEngine, tiler" "$engine" --size 640x480 \
     -o "$out/engine-tiler.png" --ids "$out/engine-tiler-ids.png" --work "$out/engine-tiler-work.png"

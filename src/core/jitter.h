@@ -34,4 +34,18 @@ inline void jitter_offset(uint32_t pattern, int sx, int sy, int32_t pitch, int32
   *jy = 1 + int32_t(((h >> 16) * span) >> 16);
 }
 
+// Bytes of a table of every pattern's offsets for f samples a pixel per axis (fill_jitter_table).
+constexpr uint32_t jitter_table_bytes(int f) { return kJitterPatterns * uint32_t(f * f) * 2u; }
+
+// table[(pattern * f * f + sy * f + sx) * 2 + {0, 1}] = jx, jy (each below 256 / f <= 128).
+inline void fill_jitter_table(int f, uint8_t* table) {
+  for (uint32_t k = 0; k < kJitterPatterns; ++k)
+    for (int s = 0; s < f * f; ++s) {
+      int32_t jx, jy;
+      jitter_offset(k, s % f, s / f, 256 / f, &jx, &jy);
+      table[(k * uint32_t(f * f) + uint32_t(s)) * 2] = uint8_t(jx);
+      table[(k * uint32_t(f * f) + uint32_t(s)) * 2 + 1] = uint8_t(jy);
+    }
+}
+
 }  // namespace ml

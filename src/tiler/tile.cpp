@@ -247,29 +247,29 @@ bool HierTiler::edges_mask(const Edges& in, int64_t side, Edges* crossing, uint6
   return v != kAll;
 }
 
-// Where band sample (gx, gy) lies inside its sub-cell: the centre, or its jittered offset (the pattern
-// of its pixel, whose row counts from the band's top row).
-void HierTiler::sample_offset(int gx, int gy, int64_t* x, int64_t* y) const {
-  if (jitter_f_ == 0) {
-    *x = *y = pitch_ / 2;
-    return;
-  }
-  const int f = jitter_f_;
-  const uint32_t pattern = jitter_pattern(gx / f, gy / f + work_row0_, jitter_seed_);
-  int32_t jx, jy;
-  jitter_offset(pattern, gx % f, gy % f, pitch_, &jx, &jy);
-  *x = jx;
-  *y = jy;
-}
-
-// Of the samples in `todo` of finest cell (bx, by), those inside every crossing edge.
+// Of the samples in `todo` of finest cell (bx, by), those inside every crossing edge: at the sub-cell
+// centres, or at their jittered offsets (the pattern of their pixel, whose row counts from the band's
+// top row; looked up once a pixel).
 uint64_t HierTiler::exact_samples(const Edges& edges, uint64_t todo, int bx, int by) const {
   uint64_t in = 0;
+  const int f = jitter_f_, fb = f == 8 ? 3 : f == 4 ? 2 : 1;  // f is 2, 4 or 8 when jittered
+  int last_px = -1, last_py = -1;
+  const uint8_t* offsets = nullptr;  // the pattern of pixel (last_px, last_py)
   while (todo != 0) {
     const int bit = __builtin_ctzll(todo);
     todo &= todo - 1;
-    int64_t ox, oy;
-    sample_offset(bx * 8 + (bit & 7), by * 8 + (bit >> 3), &ox, &oy);
+    int64_t ox = pitch_ / 2, oy = pitch_ / 2;
+    if (f != 0) {
+      const int gx = bx * 8 + (bit & 7), gy = by * 8 + (bit >> 3);
+      if ((gx >> fb) != last_px || (gy >> fb) != last_py) {
+        last_px = gx >> fb;
+        last_py = gy >> fb;
+        offsets = jitter_table_ + (jitter_pattern(last_px, last_py + work_row0_, jitter_seed_) << (2 * fb + 1));
+      }
+      const uint8_t* o = offsets + ((((gy & (f - 1)) << fb) + (gx & (f - 1))) << 1);
+      ox = o[0];
+      oy = o[1];
+    }
     const int64_t x = (bit & 7) * int64_t(pitch_) + ox, y = (bit >> 3) * int64_t(pitch_) + oy;
     bool inside = true;
     for (int i = 0; i < edges.n && inside; ++i)

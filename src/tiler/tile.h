@@ -85,11 +85,13 @@ class HierTiler {
   // the screen's size); the pyramid's row 0 is the top of its row work_row0 (the band's top row).
   // cells_visited keeps counting across init calls (one frame, many bands).
   void init(Pyramid* pyramid, int32_t pitch, WorkImage* work, int work_row0 = 0);
-  // Jittered samples (core/jitter.h) for f samples a pixel per axis and this seed; f = 0: the regular
-  // grid. Coverage at the finest level is then decided sample by sample at the jittered positions.
-  void jitter(int f, uint32_t seed) {
+  // Jittered samples (core/jitter.h) for f samples a pixel per axis and this seed, their offsets in
+  // `table` (fill_jitter_table); f = 0: the regular grid. Coverage at the finest level is then
+  // decided sample by sample at the jittered positions.
+  void jitter(int f, uint32_t seed, const uint8_t* table) {
     jitter_f_ = f;
     jitter_seed_ = seed;
+    jitter_table_ = table;
   }
 
   // Tiles one polygon, front to back: Hidden when the bounding-box test proves it invisible
@@ -132,7 +134,7 @@ class HierTiler {
   static bool edges_mask(const Edges& in, int64_t side, Edges* crossing, uint64_t* pc, uint64_t* pv);
   bool poly_mask(int level, const Edges& in, Edges* crossing, uint64_t* pc, uint64_t* pv) const;
   uint64_t exact_samples(const Edges& edges, uint64_t todo, int bx, int by) const;
-  void sample_offset(int gx, int gy, int64_t* x, int64_t* y) const;
+
   bool block_samples(const Edges& in, uint64_t* out) const;
   bool tile_cell(int level, int mx, int my, const Edges& in, CoverageWriter& writer);
   bool tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result);
@@ -151,6 +153,7 @@ class HierTiler {
   int work_row0_ = 0;
   int jitter_f_ = 0;
   uint32_t jitter_seed_ = 0;
+  const uint8_t* jitter_table_ = nullptr;
   // Sample box of the polygon being tiled or queried (inclusive).
   int32_t bx0_ = 0, by0_ = 0, bx1_ = -1, by1_ = -1;
 };

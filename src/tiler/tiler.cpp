@@ -4,6 +4,7 @@
 #include "tiler/tiler.h"
 
 #include "core/band.h"
+#include "core/jitter.h"
 #include "shade/shade.h"
 #include "texture/mapping.h"
 #include "texture/pager.h"
@@ -698,6 +699,7 @@ class TilerFrame {
   BandPlan plan_;
   BandWriter* writer_ = nullptr;
   SampleFilter* cosine_;
+  uint8_t* jitter_table_ = nullptr;  // every pattern's offsets (core/jitter.h), when jittered
   BspFrame* stack_ = nullptr;
   size_t stack_cap_ = 0;
   TexturePager pager_;
@@ -729,6 +731,11 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
   writer.use_textures(&pager_, &view_, segment_rows);
   writer_ = &writer;
   band_.factor = sample_factor(options_);
+  if (jittered(options_)) {
+    jitter_table_ = arena.allocate_array<uint8_t>(jitter_table_bytes(band_.factor));
+    if (!jitter_table_) return finish(error(StatusCode::ArenaTooSmall, "arena too small", need), arena);
+    fill_jitter_table(band_.factor, jitter_table_);
+  }
   if (uses_cosine(options_)) {
     FilterSum* sums = arena.allocate_array<FilterSum>(CosineFilter::sums_count(camera_.width, out_.band_rows()));
     if (!sums) return finish(error(StatusCode::ArenaTooSmall, "arena too small", need), arena);
@@ -769,7 +776,7 @@ Status TilerFrame::render_band(int band, Arena& arena) {
   pyramid_.clear();
   st_->pyramid_bytes = max_of(st_->pyramid_bytes, layout.bytes());
   tiler_.init(&pyramid_, kSubpixelOne / band_.factor, options_.work, band_.top);
-  tiler_.jitter(jittered(options_) ? band_.factor : 0, options_.seed);
+  tiler_.jitter(jitter_table_ ? band_.factor : 0, options_.seed, jitter_table_);
   writer_->begin_band(band_.top, band_.rows);
   if (uses_cosine(options_)) cosine_->begin_band(band_.top, out_.band_height(band));
   texture_plan_.at_band(band, out_.band_rows(), band_.top, band_.rows);
@@ -995,6 +1002,7 @@ size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderO
   const size_t pager = options.shading == ShadingMode::Ids ? 0 : TexturePager::arena_bytes(scene, options.texture_pool_bytes);
   return pager + segment_rows_bytes(pager) + (pager ? TexturePlan::arena_bytes(scene) : 0) + Pyramid::arena_bytes(layout) +
          sums_arena_bytes(options, width, rows) +
+         (jittered(options) ? arena_worst_case(jitter_table_bytes(factor), 1) : 0) +
          arena_worst_case(sizeof(BspFrame) * bsp_stack_entries(scene), 4) +
          arena_worst_case(sizeof(Pixel) * kRowPixels, 4) +
          BandOutput::arena_bytes(options.output, width, height);
