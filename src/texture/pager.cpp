@@ -168,6 +168,7 @@ const uint8_t* TexturePager::load(uint32_t t) {
   s.touch = ++clock_;
   if (s.state == kResident) return pool_ + s.offset;
   if (s.state == kFailed) return nullptr;
+  if (const uint8_t* in_place = source_->in_place(t)) return in_place;  // no read, no pool bytes
   const TextureTexels& info = scene_->texture_texels[t];
   const uint32_t bytes = pool_size(info);
   if (bytes == 0 || bytes > pool_bytes_) { fallback(t); return nullptr; }

@@ -5,7 +5,9 @@
 // — the one the renderer needs last (TextureNextUse), or first those no active triangle uses, then
 // the least recently sampled — and read again if needed later, so a frame never fails for lack of
 // texture memory. A texture that cannot be read, or is
-// larger than the whole pool, is drawn in its material's colour (a fallback). docs/textures.md.
+// larger than the whole pool, is drawn in its material's colour (a fallback). A source whose bytes
+// can be read where they lie (TextureSource::in_place: the blob in memory-mapped flash) bypasses the
+// pool: nothing is loaded, evicted or counted. docs/textures.md.
 #pragma once
 #include <stddef.h>
 #include <stdint.h>

@@ -36,7 +36,8 @@ for f in "$fwtool" "$fw/mps2-an385-tiler.elf" "$fw/mps2-an385-scanline.elf" "$fw
 done
 if [ -n "$missing" ]; then
   for n in mps2-tiler-bytes mps2-scanline-bytes mps2-tiler-picture mps2-scanline-picture lm3s-tiler-oled \
-    lm3s-scanline-oled m0plus-microbit-crc render-on-qemu render-on-qemu-tiler-aa no-soft-float; do
+    lm3s-scanline-oled m0plus-microbit-crc render-on-qemu render-on-qemu-tiler-aa render-on-qemu-textured-tiler \
+    render-on-qemu-textured-scanline no-soft-float; do
     not_ok "$n" "$missing"
   done
   exit 1
@@ -124,17 +125,17 @@ else
 fi
 
 # ---- tools/board/render-on-qemu: own camera and options, against maskline render -----------------------
-# render_on_qemu NAME WHAT OPTIONS...: the board's frame with OPTIONS against maskline render's
+# render_on_qemu NAME WHAT SCENE OPTIONS...: the board's frame of SCENE with OPTIONS against maskline render's
 render_on_qemu() {
-  local name=$1 what=$2 dir="$run/$1" json out
-  shift 2
+  local name=$1 what=$2 scene=$3 dir="$run/$1" json out
+  shift 3
   mkdir -p "$dir"
   if ! json=$(env -u MAKEFLAGS -u MAKELEVEL BUILD="$build" MASKLINE_FIRMWARE_TIMEOUT="$limit" \
-    "$here/../../tools/board/render-on-qemu" "$fw/scenes/default.mls" "$@" -o "$dir/board.png" --stats 2>"$dir/err.txt"); then
+    "$here/../../tools/board/render-on-qemu" "$scene" "$@" -o "$dir/board.png" --stats 2>"$dir/err.txt"); then
     not_ok "$name" "failed: $(tail -1 "$dir/err.txt")"
     return
   fi
-  "$cli" render "$fw/scenes/default.mls" "$@" --format rgb565 -o "$dir/cli.png" >/dev/null 2>&1
+  "$cli" render "$scene" "$@" --format rgb565 -o "$dir/cli.png" >/dev/null 2>&1
   if ! out=$("$fwtool" same "$dir/board.png" "$dir/cli.png" 2>&1); then
     not_ok "$name" "$out"
   elif ! [[ "$json" == *'"instructions":'[1-9]* && "$json" == *'"flash_bytes":'[1-9]* && "$json" == *'"ram_high_water_bytes":'[1-9]* ]]; then
@@ -143,10 +144,16 @@ render_on_qemu() {
     ok "$name" "$what equals maskline render ($out)"
   fi
 }
-render_on_qemu render-on-qemu "160x120 scanline aa 2 gouraud with its own eye" \
+render_on_qemu render-on-qemu "160x120 scanline aa 2 gouraud with its own eye" "$fw/scenes/default.mls" \
   --renderer scanline --aa 2 --shading gouraud --size 160x120 --eye 6,4,8 --target 0,1,0
-render_on_qemu render-on-qemu-tiler-aa "160x120 tiler aa 4 (box filter) in 8-row bands" \
+render_on_qemu render-on-qemu-tiler-aa "160x120 tiler aa 4 (box filter) in 8-row bands" "$fw/scenes/default.mls" \
   --renderer tiler --aa 4 --band-rows 8 --size 160x120
+# A 65,646-byte texture on a 64 KB board: sampled in place from the flash blob.
+box_textured=/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb
+for r in tiler scanline; do
+  render_on_qemu "render-on-qemu-textured-$r" "BoxTextured (texels read in place from flash) with the $r" "$box_textured" \
+    --renderer $r --size 160x120
+done
 
 # ---- no soft-float helper in any ELF ------------------------------------------------------------------
 # Symbol names on stdin; prints the soft-float ones (libgcc's __aeabi_f*/d*/c[fd]*, conversions,

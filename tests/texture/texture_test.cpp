@@ -597,6 +597,35 @@ TEST(TexturePager, ArenaBytesIncludeThePool) {
   }
 }
 
+// The blob sampled where it lies (a board's memory-mapped flash): no pool, nothing loaded, the same
+// picture as the whole-set pool, in both renderers, with and without supersampling.
+TEST(TexturePager, InPlaceBlobNeedsNoPoolAndGivesTheSameImage) {
+  for (const std::string& name : {std::string("builtin:banded"), textest::model("BoxTextured-glTF/BoxTextured.gltf")}) {
+    const mlhost::LoadedScene& s = load(name);
+    ml::BlobTextureSource in_place(s.scene, ml::BlobTextureSource::Access::InPlace);
+    const ml::Camera cam = textest::camera_for(s, 160, 120);
+    for (ml::RendererKind r : {ml::RendererKind::Scanline, ml::RendererKind::Tiler}) {
+      for (int aa : {1, 2}) {
+        const ml::RenderOptions copied = textest::options(r, ml::ShadingMode::Flat, aa);
+        ml::RenderOptions o = copied;
+        o.texture_source = &in_place;
+        o.texture_pool_bytes = 0;
+        const Frame pooled = textest::render(s.scene, cam, copied);
+        const Frame f = textest::render(s.scene, cam, o);
+        ASSERT_TRUE(f.status.ok()) << name;
+        EXPECT_TRUE(f.contract) << f.contract_error;
+        EXPECT_EQ(f.pixels, pooled.pixels) << name << " aa " << aa;
+        EXPECT_GT(pooled.stats.texture_loads, 0u) << name;
+        EXPECT_EQ(f.stats.texture_loads, 0u);
+        EXPECT_EQ(f.stats.texture_bytes_loaded, 0u);
+        EXPECT_EQ(f.stats.texture_bytes_peak, 0u);
+        EXPECT_EQ(f.stats.texture_fallbacks, 0u);
+        EXPECT_LT(ml::render_arena_bytes(s.scene, cam, o), ml::render_arena_bytes(s.scene, cam, copied));
+      }
+    }
+  }
+}
+
 TEST(TexturePager, FileSourceReadsTheSameTexels) {
   const mlhost::LoadedScene& s = load("builtin:banded");
   const std::string path = scenetest::temp_dir() + "/banded.mls";

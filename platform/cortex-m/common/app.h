@@ -15,6 +15,7 @@
 #include "platform/cortex-m/common/semihost.h"
 #include "render/render.h"
 #include "scene/scene.h"
+#include "texture/source.h"
 #include "view/view.h"
 
 #ifndef FW_WIDTH
@@ -158,16 +159,12 @@ inline size_t arena_bytes_configured(const ml::Scene& scene, const ml::Camera& c
 #endif
 }
 
-// A textured scene whose textures do not all fit the arena beside the renderer gets the pool that is
-// left (the pager reloads, or draws a texture larger than the pool in its material's colour) instead
-// of a failed frame. An untextured scene, or one that fits, keeps the whole-set pool.
-inline void fit_texture_pool(const ml::Scene& scene, const ml::Camera& camera, ml::RenderOptions* o) {
-  const size_t arena = make_arena().size();
-  if (arena_bytes_configured(scene, camera, *o) <= arena) return;
-  ml::RenderOptions without = *o;
-  without.texture_pool_bytes = 0;
-  const size_t base = arena_bytes_configured(scene, camera, without);
-  if (base < arena) o->texture_pool_bytes = uint32_t(arena - base);
+// Texels are sampled where they lie in the flash blob (texture/source.h, Access::InPlace): a texture
+// takes no RAM, so the pool is empty. `source` must outlive the frames.
+inline void sample_texels_in_flash(const ml::Scene& scene, ml::BlobTextureSource* source, ml::RenderOptions* o) {
+  *source = ml::BlobTextureSource(scene, ml::BlobTextureSource::Access::InPlace);
+  o->texture_source = source;
+  o->texture_pool_bytes = 0;
 }
 
 // Renders one frame into `sink`; prints a failure. Returns the instructions it took (ticks times the

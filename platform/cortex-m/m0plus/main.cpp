@@ -37,7 +37,8 @@ int main() {
   const ml::Camera camera = fw::camera_for(scene);
   const ml::RendererKind k = (FW_RENDERERS & 1) ? ml::RendererKind::Tiler : ml::RendererKind::Scanline;
   ml::RenderOptions o = fw::options_for(k);
-  fw::fit_texture_pool(scene, camera, &o);
+  ml::BlobTextureSource texels;
+  fw::sample_texels_in_flash(scene, &texels, &o);
   CrcSink sink;
   ml::Stats stats;
   const uint64_t ticks = fw::render_frame(scene, camera, o, sink, &stats, kInstructionsPerTick);

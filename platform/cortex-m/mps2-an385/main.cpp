@@ -102,7 +102,8 @@ int main() {
   for (ml::RendererKind k : kinds) {
     if (!(FW_RENDERERS & (k == ml::RendererKind::Tiler ? 1 : 2))) continue;
     ml::RenderOptions o = fw::options_for(k);
-    fw::fit_texture_pool(scene, camera, &o);
+    ml::BlobTextureSource texels;
+    fw::sample_texels_in_flash(scene, &texels, &o);
     fw::print_kv(k == ml::RendererKind::Tiler ? "arena_needed tiler" : "arena_needed scanline",
                  fw::arena_bytes_configured(scene, camera, o));
     ml::Stats stats;
