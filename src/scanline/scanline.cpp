@@ -825,7 +825,14 @@ struct Renderer {
       return;
     }
     if (!s.accumulate) {
-      if (textured(slot_of(a)) && texture_run(a, x0, x1, y, keep_surface + x0)) return;
+      const bool has_texture = textured(slot_of(a));
+      if (has_texture && texture_run(a, x0, x1, y, keep_surface + x0)) return;
+      ensure_colors(a);
+      if (!has_texture && !(a.flags & kSmooth)) {  // one colour: shade()'s answer, counted as its calls
+        stats->shading_calls += uint64_t(x1 - x0 + 1);
+        for (int32_t x = x0; x <= x1; ++x) keep_surface[x] = a.color[0];
+        return;
+      }
       for (int32_t x = x0; x <= x1; ++x) keep_surface[x] = shade(a, x, y);
       return;
     }

@@ -75,7 +75,7 @@ Status TexturePager::begin(const Scene& scene, TextureSource* source, uint32_t p
   if ((pool_bytes_ && !pool_) || !slots || !resident_ || !free_order_ || !luts_)
     return error(StatusCode::ArenaTooSmall, "arena too small for the texture pool");
   for (uint32_t i = 0; i < count_; ++i) {
-    slots[i] = Slot{0, 0, kNone, 0, kAbsent, 0};
+    slots[i] = Slot{nullptr, 0, 0, kNone, 0, kAbsent, 0};
     free_order_[i] = i;
   }
   slots_ = slots;
@@ -130,6 +130,7 @@ void TexturePager::release(uint32_t t) {
   resident_count_ = w;
   resident_bytes_ -= pool_size(scene_->texture_texels[t]);
   slots_[t].state = kAbsent;
+  slots_[t].bytes = nullptr;
 }
 
 // Evicts the resident texture (other than `keep`) needed least soon: the one the renderer's next
@@ -166,9 +167,9 @@ const uint8_t* TexturePager::load(uint32_t t) {
   if (!slots_ || t >= count_) return nullptr;
   Slot& s = slots_[t];
   s.touch = ++clock_;
-  if (s.state == kResident) return pool_ + s.offset;
+  if (s.bytes) return s.bytes;
   if (s.state == kFailed) return nullptr;
-  if (const uint8_t* in_place = source_->in_place(t)) return in_place;  // no read, no pool bytes
+  if ((s.bytes = source_->in_place(t)) != nullptr) return s.bytes;  // no read, no pool bytes
   const TextureTexels& info = scene_->texture_texels[t];
   const uint32_t bytes = pool_size(info);
   if (bytes == 0 || bytes > pool_bytes_) { fallback(t); return nullptr; }
@@ -181,6 +182,7 @@ const uint8_t* TexturePager::load(uint32_t t) {
   while (i > 0 && slots_[resident_[i - 1]].offset > offset) { resident_[i] = resident_[i - 1]; --i; }
   resident_[i] = t;
   s.offset = offset;
+  s.bytes = pool_ + offset;
   s.state = kResident;
   if (s.loaded) ++stats_->texture_reloads;
   s.loaded = 1;

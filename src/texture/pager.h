@@ -55,9 +55,9 @@ class TexturePager {
   // The texture's bytes, reading them if needed; null for a fallback (the read failed or the texture
   // is larger than the pool; counted once per frame and texture).
   const uint8_t* get(uint32_t t) {
-    if (slots_ && t < count_ && slots_[t].state == kResident) {  // the common case, inline
+    if (slots_ && t < count_ && slots_[t].bytes) {  // resident or in place: the common case, inline
       slots_[t].touch = ++clock_;
-      return pool_ + slots_[t].offset;
+      return slots_[t].bytes;
     }
     return load(t);
   }
@@ -86,6 +86,7 @@ class TexturePager {
 
  private:
   struct Slot {
+    const uint8_t* bytes;  // the texels while resident (in the pool) or in place; null otherwise
     uint32_t offset;     // in the pool, while resident
     uint32_t touch;      // get() count at the last use
     uint32_t last_row;   // planned last use; kNone: never freed early

@@ -70,7 +70,7 @@ void CosineFilter::begin_band(int top, int rows) {
 uint64_t CosineFilter::expand(uint64_t mask, int f) {
   if (f == 8) return mask;
   const int k = 8 / f;
-  const uint64_t block = ((uint64_t(1) << k) - 1) * (0x0101010101010101u >> (8 * (8 - k)));  // k x k bits
+  const uint64_t block = corner_samples(k);
   uint64_t out = 0;
   while (mask != 0) {
     const int bit = __builtin_ctzll(mask);
@@ -119,7 +119,7 @@ void CosineFilter::add_block(uint64_t mask, int x, int y, SourceColours& colours
   }
   // The block holds (8 / f)^2 pixels of f x f samples each.
   const int f = f_, per_side = 8 / f;
-  const uint64_t pixel = f == 8 ? ~uint64_t(0) : ((uint64_t(1) << f) - 1) * (0x0101010101010101u >> (8 * (8 - f)));
+  const uint64_t pixel = corner_samples(f);
   for (int j = 0; j < per_side; ++j)
     for (int i = 0; i < per_side; ++i) {
       const int shift = j * f * 8 + i * f;

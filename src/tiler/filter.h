@@ -23,6 +23,13 @@
 
 namespace ml {
 
+// The k x k samples at the top-left corner of an 8 x 8-sample mask (row r in bits 8r..8r+7; k = 1, 2,
+// 4 or 8): one pixel's samples at k samples a pixel per axis, shifted to each pixel of the block.
+constexpr uint64_t corner_samples(int k) {
+  return ((uint64_t(1) << k) - 1) * (0x0101010101010101u >> (8 * (8 - k)));
+}
+static_assert(corner_samples(8) == ~uint64_t(0) && corner_samples(2) == 0x303u, "corner_samples");
+
 // A destination pixel's running sums: colour channels times weights (< 255 * 2^16) and the weight
 // so far. Border pixels start at the weight their off-screen neighbours would have given.
 struct FilterSum {

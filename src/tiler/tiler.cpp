@@ -51,8 +51,7 @@ class BandWriter : public CoverageWriter {
   void oversample(int factor, PixelSum* sums, int width) {
     factor_ = factor;
     factor_bits_ = factor == 8 ? 6 : factor == 4 ? 4 : factor == 2 ? 2 : 0;
-    pixel_mask_ = 0;  // the samples of the top-left pixel of an 8x8-sample block
-    for (int r = 0; r < factor; ++r) pixel_mask_ |= ((uint64_t(1) << factor) - 1) << (8 * r);
+    pixel_mask_ = corner_samples(factor);  // the samples of the top-left pixel of an 8x8-sample block
     sums_ = sums;
     width_ = width;
   }
@@ -676,10 +675,9 @@ class TilerFrame {
   // Plans each texture's rows from the textured triangles' projected extent, and its first and last
   // piece in the BSP walk (TexturePlan).
   void plan_textures();
-  // The next node of a front-to-back walk from the frame on top of the stack (its near side first);
-  // false when the walk is over. Shared by the drawing walk and the plan's.
-  uint32_t near_of(const BspNode& node) const;
-  uint32_t far_of(const BspNode& node) const;
+  // The node's children ordered for a front-to-back walk: the one on the eye's side of its plane
+  // first (kNone where there is none). One side test a visit, shared by the drawing walk and the plan's.
+  void children(const BspNode& node, uint32_t* near, uint32_t* far) const;
   Status finish(Status s, const Arena& arena) {
     st_->peak_arena_bytes = uint32_t(arena.peak());
     return s;
@@ -827,29 +825,27 @@ void TilerFrame::plan_textures() {
     const uint32_t index = f & ~kNearDone;
     if (index >= scene_.bsp_node_count) break;
     const BspNode node = bsp_node(scene_, index);
+    uint32_t near, far;
+    children(node, &near, &far);
     if (!(f & kNearDone)) {
       f |= kNearDone;
-      if (near_of(node) != kNone && sp < stack_cap_) stack_[sp++] = near_of(node);
+      if (near != kNone && sp < stack_cap_) stack_[sp++] = near;
       continue;
     }
     for (uint32_t p = node.first_piece; p < node.first_piece + node.piece_count; ++p, ++k) {
       const uint32_t texture = triangle_texture(scene_, bsp_piece(scene_, p).triangle);
       if (texture != kNone) texture_plan_.piece(texture, k);
     }
-    if (far_of(node) != kNone) f = far_of(node); else --sp;
+    if (far != kNone) f = far; else --sp;
   }
   pager_.use_next_use(&texture_plan_);
 }
 
-uint32_t TilerFrame::near_of(const BspNode& node) const {
+void TilerFrame::children(const BspNode& node, uint32_t* near, uint32_t* far) const {
   const int64_t side = int64_t(node.normal[0]) * view_.eye.x + int64_t(node.normal[1]) * view_.eye.y +
                        int64_t(node.normal[2]) * view_.eye.z - node.d;
-  return side >= 0 ? node.front : node.back;
-}
-
-uint32_t TilerFrame::far_of(const BspNode& node) const {
-  const uint32_t near = near_of(node);
-  return near == node.front ? node.back : node.front;
+  *near = side >= 0 ? node.front : node.back;
+  *far = side >= 0 ? node.back : node.front;
 }
 
 Status TilerFrame::walk_bsp() {
@@ -866,7 +862,8 @@ Status TilerFrame::walk_bsp() {
     const uint32_t index = f & ~kNearDone;
     if (index >= scene_.bsp_node_count) return error(StatusCode::BadScene, "BSP child out of range");
     const BspNode node = bsp_node(scene_, index);
-    const uint32_t near = near_of(node), far = far_of(node);
+    uint32_t near, far;
+    children(node, &near, &far);
     if (!(f & kNearDone)) {
       if (node.subtree_pieces >= cull_min && subtree_hidden(node)) {
         // Every piece below is hidden (or outside the band).

@@ -8,10 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "core/arena.h"
-#include "platform/host/image_sink.h"
 #include "platform/host/scene_load.h"
 #include "render/render.h"
+#include "tests/common/checked_render.h"
 #include "tests/common/engine_scene.h"
 #include "tests/oracle/oracle.h"
 #include "tests/oracle/scene_triangles.h"
@@ -22,36 +21,13 @@ namespace {
 
 constexpr double kEdgeClearance = 1.0 / 16.0;
 
-struct IdImage {
-  bool ok = false;
-  std::string error;
-  std::vector<uint32_t> ids;  // id + 1, 0 = background
-};
-
-IdImage render_ids(const ml::Scene& scene, const ml::Camera& camera, ml::RendererKind renderer) {
-  IdImage out;
+testrender::Image render_ids(const ml::Scene& scene, const ml::Camera& camera, ml::RendererKind renderer) {
   ml::RenderOptions o;
   o.renderer = renderer;
   o.shading = ml::ShadingMode::Ids;
   o.aa = 1;
   o.background = 0;
-  const size_t bytes = ml::render_arena_bytes(scene, camera, o);
-  std::vector<uint64_t> storage(bytes / 8 + 1);
-  ml::Arena arena(storage.data(), bytes);
-  mlhost::ImageSink sink;
-  ml::Stats stats;
-  const ml::Status s = ml::render(scene, camera, o, arena, sink, &stats);
-  if (!s.ok()) {
-    out.error = std::string("render failed: ") + s.message;
-    return out;
-  }
-  if (!sink.contract_ok()) {
-    out.error = "sink contract: " + sink.contract_error();
-    return out;
-  }
-  out.ok = true;
-  out.ids = sink.pixels();
-  return out;
+  return testrender::render_checked(scene, camera, o);
 }
 
 struct Agreement {
@@ -79,10 +55,10 @@ Agreement compare(const std::vector<uint32_t>& ids, const oracle::Result& ref) {
 // Checks one renderer against the oracle; `min_decisive` guards against a vacuous comparison.
 void check_against_oracle(const ml::Scene& scene, const ml::Camera& camera, ml::RendererKind renderer,
                           double min_decisive_fraction) {
-  const IdImage img = render_ids(scene, camera, renderer);
+  const testrender::Image img = render_ids(scene, camera, renderer);
   ASSERT_TRUE(img.ok) << img.error;
   const oracle::Result ref = oracle::rasterize(oracle::scene_triangles(scene), oracle::to_oracle_camera(camera));
-  const Agreement a = compare(img.ids, ref);
+  const Agreement a = compare(img.pixels, ref);
   ::testing::Test::RecordProperty("decisive_pixels", std::to_string(a.decisive) + " of " +
                                                         std::to_string(camera.width * camera.height));
   EXPECT_EQ(a.mismatches, 0u) << a.mismatches << " of " << a.decisive << " decisive pixels differ; first: " << a.first;
@@ -212,8 +188,8 @@ std::vector<bool> split_triangles(const ml::Scene& scene) {
 void check_renderers_agree(const ml::Scene& scene, const ml::Camera& camera) {
   const std::vector<bool> split = split_triangles(scene);
   auto is_split = [&](uint32_t id) { return id > 0 && id <= split.size() && split[id - 1]; };
-  const IdImage t = render_ids(scene, camera, ml::RendererKind::Tiler);
-  const IdImage s = render_ids(scene, camera, ml::RendererKind::Scanline);
+  const testrender::Image t = render_ids(scene, camera, ml::RendererKind::Tiler);
+  const testrender::Image s = render_ids(scene, camera, ml::RendererKind::Scanline);
   ASSERT_TRUE(t.ok) << "tiler: " << t.error;
   ASSERT_TRUE(s.ok) << "scanline: " << s.error;
   const oracle::Result ref = oracle::rasterize(oracle::scene_triangles(scene), oracle::to_oracle_camera(camera));
@@ -224,14 +200,14 @@ void check_renderers_agree(const ml::Scene& scene, const ml::Camera& camera) {
       const size_t i = ref.index(x, y);
       if (ref.ambiguous[i]) continue;
       ++compared;
-      if (t.ids[i] != s.ids[i] && ref.edge_distance[i] < 1.0 / 256 && (is_split(t.ids[i]) || is_split(s.ids[i]))) {
+      if (t.pixels[i] != s.pixels[i] && ref.edge_distance[i] < 1.0 / 256 && (is_split(t.pixels[i]) || is_split(s.pixels[i]))) {
         ++slivers;
         continue;
       }
-      if (t.ids[i] != s.ids[i] && ref.edge_distance[i] > kEdgeClearance) ++differ_away_from_edges;
-      if (t.ids[i] != s.ids[i] && differ++ == 0)
-        first = "pixel (" + std::to_string(x) + "," + std::to_string(y) + "): tiler " + std::to_string(t.ids[i]) +
-                ", scanline " + std::to_string(s.ids[i]) + "; oracle " + std::to_string(ref.id[i] + 1) + ", then " +
+      if (t.pixels[i] != s.pixels[i] && ref.edge_distance[i] > kEdgeClearance) ++differ_away_from_edges;
+      if (t.pixels[i] != s.pixels[i] && differ++ == 0)
+        first = "pixel (" + std::to_string(x) + "," + std::to_string(y) + "): tiler " + std::to_string(t.pixels[i]) +
+                ", scanline " + std::to_string(s.pixels[i]) + "; oracle " + std::to_string(ref.id[i] + 1) + ", then " +
                 std::to_string(ref.second_id[i] + 1) + ", relative depth gap " + std::to_string(ref.depth_gap[i]) +
                 ", edge distance " + std::to_string(ref.edge_distance[i]);
     }

@@ -93,12 +93,21 @@ ml::Pixel base_colour(const ml::Scene& scene, int64_t id, ml::Pixel background) 
   return ml::rgb(m.base_color[0], m.base_color[1], m.base_color[2]);
 }
 
-std::vector<double> box_filtered_unlit(const ml::Scene& scene, const ml::Camera& camera, int rays,
-                                       ml::Pixel background) {
+namespace {
+
+// The scene's ids cast from rays x rays rays a pixel of `camera`.
+Result rasterize_rays(const ml::Scene& scene, const ml::Camera& camera, int rays) {
   Camera c = to_oracle_camera(camera);
   c.width *= rays;
   c.height *= rays;
-  const Result ref = rasterize(scene_triangles(scene), c);
+  return rasterize(scene_triangles(scene), c);
+}
+
+}  // namespace
+
+std::vector<double> box_filtered_unlit(const ml::Scene& scene, const ml::Camera& camera, int rays,
+                                       ml::Pixel background) {
+  const Result ref = rasterize_rays(scene, camera, rays);
   std::vector<double> out(size_t(camera.width) * size_t(camera.height) * 3, 0.0);
   const double weight = 1.0 / (rays * rays);
   for (int y = 0; y < ref.height; ++y)
@@ -112,10 +121,7 @@ std::vector<double> box_filtered_unlit(const ml::Scene& scene, const ml::Camera&
 
 std::vector<double> cosine_filtered_unlit(const ml::Scene& scene, const ml::Camera& camera, int rays,
                                           ml::Pixel background) {
-  Camera c = to_oracle_camera(camera);
-  c.width *= rays;
-  c.height *= rays;
-  const Result ref = rasterize(scene_triangles(scene), c);
+  const Result ref = rasterize_rays(scene, camera, rays);
   const size_t pixels = size_t(camera.width) * size_t(camera.height);
   std::vector<double> out(pixels * 3, 0.0), weight(pixels, 0.0);
   for (int y = 0; y < ref.height; ++y)

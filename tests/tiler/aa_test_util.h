@@ -8,10 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "core/arena.h"
-#include "platform/host/image_sink.h"
 #include "platform/host/scene_load.h"
 #include "render/render.h"
+#include "tests/common/checked_render.h"
 #include "tests/oracle/oracle.h"
 #include "tests/oracle/scene_triangles.h"
 #include "tools/scenec/scenec.h"
@@ -21,33 +20,7 @@ namespace aatest {
 
 constexpr ml::Pixel kBackground = 0x202830;
 
-struct Image {
-  bool ok = false;
-  std::string error;
-  std::vector<ml::Pixel> pixels;
-};
-
-// spare: the arena holds render_spare_bytes more (the tiler then plans its bands once).
-inline Image render_with(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o,
-                         bool spare = false) {
-  Image out;
-  const size_t bytes = ml::render_arena_bytes(scene, camera, o) + (spare ? ml::render_spare_bytes(scene, camera, o) : 0);
-  std::vector<uint64_t> storage(bytes / 8 + 1);
-  ml::Arena arena(storage.data(), bytes);
-  mlhost::ImageSink sink;
-  const ml::Status s = ml::render(scene, camera, o, arena, sink, nullptr);
-  if (!s.ok()) {
-    out.error = std::string("render failed: ") + s.message;
-    return out;
-  }
-  if (!sink.contract_ok()) {
-    out.error = "sink contract: " + sink.contract_error();
-    return out;
-  }
-  out.ok = true;
-  out.pixels = sink.pixels();
-  return out;
-}
+using Image = testrender::Image;
 
 inline Image render_colour(const ml::Scene& scene, const ml::Camera& camera, ml::RendererKind renderer, int aa,
                     ml::ShadingMode shading = ml::ShadingMode::Unlit, int band_rows = 16,
@@ -61,7 +34,7 @@ inline Image render_colour(const ml::Scene& scene, const ml::Camera& camera, ml:
   o.background = kBackground;
   o.output.band_rows = band_rows;
   o.output.format = format;
-  return render_with(scene, camera, o);
+  return testrender::render_checked(scene, camera, o);
 }
 
 inline ml::Camera framing(const ml::Scene& scene, int w, int h) {

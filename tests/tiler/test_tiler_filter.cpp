@@ -156,7 +156,7 @@ TEST(TilerCosine, BandHeightsGiveTheSameImage) {
           o.filter = ml::FilterKind::Cosine;
           o.background = kBackground;
           o.output.band_rows = rows;
-          const Image banded = render_with(s.scene, camera, o, plan);
+          const Image banded = testrender::render_checked(s.scene, camera, o, plan);
           ASSERT_TRUE(banded.ok) << banded.error;
           EXPECT_EQ(banded.pixels, whole.pixels) << rows << "-row bands" << (plan ? ", planned" : "");
         }

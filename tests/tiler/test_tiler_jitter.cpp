@@ -67,7 +67,7 @@ std::vector<int64_t> scanline_ids(const ml::Scene& scene, const ml::Camera& came
   ml::RenderOptions o;
   o.renderer = ml::RendererKind::Scanline;
   o.shading = ml::ShadingMode::Ids;
-  const Image img = render_with(scene, camera, o);
+  const Image img = testrender::render_checked(scene, camera, o);
   EXPECT_TRUE(img.ok) << img.error;
   std::vector<int64_t> ids(img.pixels.size(), -1);
   for (size_t i = 0; i < img.pixels.size() && img.ok; ++i) ids[i] = int64_t(img.pixels[i]) - 1;
@@ -96,7 +96,7 @@ TEST(TilerJitter, TilerScanlineAndOracleAgreeAtTheJitteredSamples) {
     for (int f : {2, 4}) {
       SCOPED_TRACE("seed " + std::to_string(seed) + ", aa " + std::to_string(f));
       ml::RenderOptions o = jittered_options(f);
-      const Image tiler = render_with(s.scene, camera, o);
+      const Image tiler = testrender::render_checked(s.scene, camera, o);
       ASSERT_TRUE(tiler.ok) << tiler.error;
       const int bits = f == 4 ? 4 : 2;
       const auto scan = jittered_ids(camera, f, o.seed, [&](const ml::Camera& c) { return scanline_ids(s.scene, c); });
@@ -153,9 +153,9 @@ TEST(TilerJitter, PatternsVaryByPixelAndSeed) {
   const auto& s = default_scene();
   const ml::Camera camera = framing(s.scene, 64, 48);
   ml::RenderOptions o = jittered_options(4, ml::ShadingMode::Flat);
-  const Image a = render_with(s.scene, camera, o);
+  const Image a = testrender::render_checked(s.scene, camera, o);
   o.seed = 8;
-  const Image b = render_with(s.scene, camera, o);
+  const Image b = testrender::render_checked(s.scene, camera, o);
   const Image regular = render_colour(s.scene, camera, ml::RendererKind::Tiler, 4, ml::ShadingMode::Flat);
   ml::RenderOptions defaults;
   EXPECT_EQ(defaults.samples, ml::SamplePattern::Regular);
@@ -173,12 +173,12 @@ TEST(TilerJitter, BandHeightsGiveTheSameImage) {
       SCOPED_TRACE(std::string(filter == ml::FilterKind::Box ? "box" : "cosine") + " aa " + std::to_string(f));
       ml::RenderOptions o = jittered_options(f, ml::ShadingMode::Gouraud, 0);
       o.filter = filter;
-      const Image whole = render_with(s.scene, camera, o);
+      const Image whole = testrender::render_checked(s.scene, camera, o);
       ASSERT_TRUE(whole.ok) << whole.error;
       for (int rows : {1, 3, 16})
         for (bool plan : {false, true}) {
           o.output.band_rows = rows;
-          const Image banded = render_with(s.scene, camera, o, plan);
+          const Image banded = testrender::render_checked(s.scene, camera, o, plan);
           ASSERT_TRUE(banded.ok) << banded.error;
           EXPECT_EQ(banded.pixels, whole.pixels) << rows << "-row bands";
         }
@@ -196,7 +196,7 @@ TEST(TilerJitter, ErrorFallsAsSamplesGrow) {
     const std::vector<double> reference = oracle::box_filtered_unlit(s.scene, camera, 16, kBackground);
     auto error = [&](int aa) {
       const Image img = aa == 1 ? render_colour(s.scene, camera, ml::RendererKind::Tiler, 1)
-                                : render_with(s.scene, camera, jittered_options(aa));
+                                : testrender::render_checked(s.scene, camera, jittered_options(aa));
       EXPECT_TRUE(img.ok) << img.error;
       return img.ok ? rms_against(img.pixels, reference) : 1e9;
     };
@@ -211,10 +211,10 @@ TEST(TilerJitter, ErrorFallsAsSamplesGrow) {
 TEST(TilerJitter, NeedsSamplesAndTheTiler) {
   const auto& s = default_scene();
   const ml::Camera camera = framing(s.scene, 32, 24);
-  EXPECT_FALSE(render_with(s.scene, camera, jittered_options(1)).ok);
+  EXPECT_FALSE(testrender::render_checked(s.scene, camera, jittered_options(1)).ok);
   ml::RenderOptions o = jittered_options(4);
   o.renderer = ml::RendererKind::Scanline;
-  EXPECT_FALSE(render_with(s.scene, camera, o).ok);
+  EXPECT_FALSE(testrender::render_checked(s.scene, camera, o).ok);
   ml::Camera far = camera;
   far.sample_shift_x = 256;  // a whole pixel is not a sample shift
   EXPECT_FALSE(render_colour(s.scene, far, ml::RendererKind::Tiler, 1).ok);
