@@ -62,8 +62,10 @@ class BandWriter : public CoverageWriter {
     if (factor_ > 1 && !cosine_)
       for (size_t i = 0; i < size_t(rows) * size_t(width_); ++i) sums_[i] = PixelSum{0, 0, 0, 0};
   }
+  // world: the triangle's world vertices, valid until the piece is tiled.
   void begin_piece(const Scene* scene, const Light* light, ShadingMode mode, uint32_t triangle,
-                   bool front_facing) {
+                   bool front_facing, const Vec3i* world) {
+    world_ = world;
     scene_ = scene;
     light_ = light;
     mode_ = mode;
@@ -107,8 +109,14 @@ class BandWriter : public CoverageWriter {
   }
 
   bool write_block(uint64_t mask, int x, int band_y) override {
-    if (factor_ == 1) return CoverageWriter::write_block(mask, x, band_y);
     first_write();
+    if (factor_ == 1 && !cosine_) {
+      // One colour for the whole block: the mask goes to the band as it is, not run by run.
+      if (texture_ != kNone || colors_.smooth) return CoverageWriter::write_block(mask, x, band_y);
+      stats_->pixel_writes += uint64_t(__builtin_popcountll(mask));
+      out_.fill_mask(mask, x, band_y + top_, colors_.flat);
+      return true;
+    }
     if (cosine_) {
       cosine_->add_block(mask, x, band_y, colours_);
       return true;
@@ -128,7 +136,7 @@ class BandWriter : public CoverageWriter {
   void first_write() {
     wrote_piece_ = true;
     if (shaded_) return;
-    shade_triangle(*scene_, *light_, mode_, triangle_, front_facing_, &colors_);
+    shade_triangle(*scene_, *light_, mode_, triangle_, front_facing_, &colors_, world_);
     shaded_ = true;
     ++stats_->shading_calls;
   }
@@ -296,6 +304,7 @@ class BandWriter : public CoverageWriter {
   SampleFilter* cosine_ = nullptr;
   int top_ = 0;
   const Scene* scene_ = nullptr;
+  const Vec3i* world_ = nullptr;
   const Light* light_ = nullptr;
   ShadingMode mode_ = ShadingMode::Flat;
   uint32_t triangle_ = 0;
@@ -959,7 +968,7 @@ bool TilerFrame::draw_piece(uint32_t index) {
     return true;
   ScreenTriangle parts[kMaxClipTriangles];
   const int n = project_triangle(view_, world, facing, parts, false);  // the tiler reads no depths
-  writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0);
+  writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0, whole_world);
   for (int i = 0; i < n; ++i) {
     const int f = band_.factor;
     TriangleSetup setup;
