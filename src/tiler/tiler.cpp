@@ -62,10 +62,8 @@ class BandWriter : public CoverageWriter {
     if (factor_ > 1 && !cosine_)
       for (size_t i = 0; i < size_t(rows) * size_t(width_); ++i) sums_[i] = PixelSum{0, 0, 0, 0};
   }
-  // world: the triangle's world vertices, valid until the piece is tiled.
   void begin_piece(const Scene* scene, const Light* light, ShadingMode mode, uint32_t triangle,
-                   bool front_facing, const Vec3i* world) {
-    world_ = world;
+                   bool front_facing) {
     scene_ = scene;
     light_ = light;
     mode_ = mode;
@@ -82,7 +80,10 @@ class BandWriter : public CoverageWriter {
     view_ = view;
     segment_rows_ = segment_rows;
   }
-  void begin_part(const ScreenTriangle* part) {
+  // world: the piece's triangle's world vertices when read already (for its shading; valid while the
+  // part is tiled), or null.
+  void begin_part(const ScreenTriangle* part, const Vec3i* world) {
+    world_ = world;
     part_ = part;
     planes_ready_ = false;
   }
@@ -988,7 +989,7 @@ bool TilerFrame::draw_piece(uint32_t index) {
     return true;
   ScreenTriangle parts[kMaxClipTriangles];
   const int n = project_triangle(view_, world, facing, parts, false);  // the tiler reads no depths
-  writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0, whole_world);
+  writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0);
   for (int i = 0; i < n; ++i) {
     const int f = band_.factor;
     TriangleSetup setup;
@@ -1009,7 +1010,7 @@ bool TilerFrame::draw_piece(uint32_t index) {
     }
     if (!band_.clip(&poly)) continue;
     ++st_->triangles_tiled;
-    writer_->begin_part(&parts[i]);
+    writer_->begin_part(&parts[i], have_whole ? whole_world : nullptr);
     if (tiler_.tile(poly, *writer_) == TileResult::Failed)
       return false;
   }
