@@ -196,19 +196,23 @@ void piece_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexe
     bilinear_run<Repeat>(t, p.size_bits, bits, au, av, su, sv, fetch, n, out);
     return;
   }
-  const int shift_u = bits + 16 - p.size_bits[0], shift_v = bits + 16 - p.size_bits[1];
+  const int shifts[2] = {bits + 16 - p.size_bits[0], bits + 16 - p.size_bits[1]};
+  int64_t a[2] = {au, av}, s[2] = {su, sv};
+  const int shift = common_shift(a, s, shifts), shift_u = shift, shift_v = shift;
+  au = a[0], av = a[1];
+  const int64_t step_u = s[0], step_v = s[1];
   if (Repeat) {
     const int32_t mask_u = int32_t(t.width) - 1, mask_v = int32_t(t.height) - 1;
     if (after == 0xFFFFFF) {
-      for (int32_t i = 0; i < n; ++i, au += su, av += sv)
+      for (int32_t i = 0; i < n; ++i, au += step_u, av += step_v)
         out[i] = fetch(int32_t(au >> shift_u) & mask_u, int32_t(av >> shift_v) & mask_v);
       return;
     }
-    for (int32_t i = 0; i < n; ++i, au += su, av += sv)
+    for (int32_t i = 0; i < n; ++i, au += step_u, av += step_v)
       out[i] = modulate_texel(fetch(int32_t(au >> shift_u) & mask_u, int32_t(av >> shift_v) & mask_v), after);
     return;
   }
-  for (int32_t i = 0; i < n; ++i, au += su, av += sv) {
+  for (int32_t i = 0; i < n; ++i, au += step_u, av += step_v) {
     const int32_t x = wrap(au >> shift_u, t.width, t.wrap_s), y = wrap(av >> shift_v, t.height, t.wrap_t);
     out[i] = modulate_texel(fetch(x, y), after);
   }
@@ -235,10 +239,13 @@ void nearest_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTe
   const int bits = pc.bits;
   int64_t au = int64_t(pc.uv[0]) * (int64_t(1) << bits) + pc.step[0] * j;
   int64_t av = int64_t(pc.uv[1]) * (int64_t(1) << bits) + pc.step[1] * j;
-  const int64_t su = pc.step[0], sv = pc.step[1];
-  const int shift_u = bits + 16 - p.size_bits[0], shift_v = bits + 16 - p.size_bits[1];
+  const int shifts[2] = {bits + 16 - p.size_bits[0], bits + 16 - p.size_bits[1]};
+  int64_t a[2] = {au, av}, s[2] = {pc.step[0], pc.step[1]};
+  const int shift = common_shift(a, s, shifts);
+  au = a[0], av = a[1];
+  const int64_t su = s[0], sv = s[1];
   for (int32_t i = 0; i < n; ++i, au += su, av += sv)
-    out[i] = fetch(wrap_as<S>(au >> shift_u, width), wrap_as<T>(av >> shift_v, height));
+    out[i] = fetch(wrap_as<S>(au >> shift, width), wrap_as<T>(av >> shift, height));
 }
 
 // A run of one affine piece (piece_run's arguments), chosen once per call of texture_rows for the
