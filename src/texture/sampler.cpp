@@ -78,15 +78,24 @@ inline Pixel lerp(Pixel a, Pixel b, uint32_t f) {
   return (rb & 0xFF00FF) | (gg & 0xFF00);
 }
 
-// lerp() on colours spread to 16-bit lanes in 64 bits (blue at bit 0, red at 16, green at 32): one
-// multiply per colour for all three channels. Each lane's sum stays below 2^16, so the lanes give
-// lerp()'s values.
+// lerp() on colours spread to 16-bit lanes of a machine word. 64-bit words (blue at bit 0, red at
+// 16, green at 32): one multiply per colour for all three channels; each lane's sum stays below 2^16,
+// so the lanes give lerp()'s values. 32-bit words (Cortex-M, where a 64-bit product is several
+// instructions or a library call): lerp() itself on the colours.
+#if UINTPTR_MAX > 0xFFFFFFFFu
+using Spread = uint64_t;
 constexpr uint64_t kSpreadMask = 0x000000FF00FF00FFull;
-inline uint64_t spread(Pixel c) { return (c | (uint64_t(c) << 24)) & kSpreadMask; }
-inline Pixel unspread(uint64_t s) { return Pixel(s | (s >> 24)) & 0xFFFFFF; }
-inline uint64_t lerp_spread(uint64_t a, uint64_t b, uint32_t f) {
+inline Spread spread(Pixel c) { return (c | (uint64_t(c) << 24)) & kSpreadMask; }
+inline Pixel unspread(Spread s) { return Pixel(s | (s >> 24)) & 0xFFFFFF; }
+inline Spread lerp_spread(Spread a, Spread b, uint32_t f) {
   return ((a * (256 - f) + b * f + 0x0000008000800080ull) >> 8) & kSpreadMask;
 }
+#else
+using Spread = Pixel;
+inline Spread spread(Pixel c) { return c; }
+inline Pixel unspread(Spread s) { return s; }
+inline Spread lerp_spread(Spread a, Spread b, uint32_t f) { return lerp(a, b, f); }
+#endif
 
 // Bilinear filtering at uv of the texels fetch(x, y) gives; Repeat: both axes repeat (wrapping is
 // a mask).
@@ -126,17 +135,66 @@ inline int common_shift(int64_t a[2], int64_t s[2], const int shift[2]) {
   return shift[1 - k];
 }
 
+// Whether the texel indices a >> shift of samples 0 .. n - 1 (a stepped by s) all lie in
+// [0, last]: along a piece they are monotonic, so its ends decide. Wrapping leaves such indices as
+// they are, whatever the mode.
+inline bool within(int64_t a, int64_t s, int32_t n, int shift, int32_t last) {
+  const int64_t first = a >> shift, end = (a + s * (n - 1)) >> shift;
+  return first >= 0 && end >= 0 && first <= last && end <= last;
+}
+
+// How the bilinear and nearest loops wrap texel indices: a mask (both axes repeat), each axis by its
+// mode, or not at all (every index of the run inside the texture: `within`).
+enum class Wrapping { Mask, Modes, Inside };
+
+// bilinear_run's loop: a = (a_u, a_v) in units of 1/256 texel << right, stepped by s.
+template <Wrapping W, typename Fetch>
+__attribute__((always_inline)) inline void bilinear_loop(const TextureTexels& t, int right, int64_t au, int64_t av,
+                                                         int64_t su, int64_t sv, Fetch fetch, int32_t n, Pixel* out) {
+  const int32_t mu = int32_t(t.width) - 1, mv = int32_t(t.height) - 1;
+  for (int32_t i = 0; i < n; ++i, au += su, av += sv) {
+    const int64_t cu = au >> right, cv = av >> right;
+    const uint32_t fx = uint32_t(cu) & 0xFF, fy = uint32_t(cv) & 0xFF;
+    int32_t xa, xb, ya, yb;
+    if (W == Wrapping::Mask) {
+      xa = int32_t(cu >> 8) & mu;
+      xb = (xa + 1) & mu;
+      ya = int32_t(cv >> 8) & mv;
+      yb = (ya + 1) & mv;
+    } else if (W == Wrapping::Inside) {
+      xa = int32_t(cu >> 8);
+      xb = xa + 1;
+      ya = int32_t(cv >> 8);
+      yb = ya + 1;
+    } else {
+      xa = wrap(cu >> 8, t.width, t.wrap_s);
+      xb = wrap((cu >> 8) + 1, t.width, t.wrap_s);
+      ya = wrap(cv >> 8, t.height, t.wrap_t);
+      yb = wrap((cv >> 8) + 1, t.height, t.wrap_t);
+    }
+    const Spread top = lerp_spread(spread(fetch(xa, ya)), spread(fetch(xb, ya)), fx);
+    const Spread bottom = lerp_spread(spread(fetch(xa, yb)), spread(fetch(xb, yb)), fx);
+    out[i] = unspread(lerp_spread(top, bottom, fy));
+  }
+}
+
 // n samples of bilinear filtering along an affine piece, a = (a_u, a_v) stepped by s: the same
 // colours as bilinear() at (int32_t(a_u >> bits), int32_t(a_v >> bits)) (the coordinates of a piece
 // stay within int32, its ends being such). For textures of at most 256 texels a side (the
 // compiler's default limit), without bilinear()'s products per sample: in units of 1/256 texel less
 // half a texel, floor(floor(a / 2^bits) 2^size_bits / 256) - 128 is (a - 128 2^r) >> r with
-// r = bits + 8 - size_bits >= 0: the texel a >> 8, the fraction the low 8 bits.
+// r = bits + 8 - size_bits >= 0: the texel a >> 8, the fraction the low 8 bits. Runs whose two
+// texels a side stay inside the texture take no wrapping.
 template <bool Repeat, typename Fetch>
 __attribute__((always_inline)) inline void bilinear_run(const TextureTexels& t, const int32_t size_bits[2], int bits,
                                                         int64_t au, int64_t av, int64_t su, int64_t sv, Fetch fetch,
                                                         int32_t n, Pixel* out) {
-  if (size_bits[0] > 8 || size_bits[1] > 8) {
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+  const bool general = size_bits[0] > 8 || size_bits[1] > 8;
+#else
+  const bool general = true;  // the firmware's code budget: only bilinear()
+#endif
+  if (general) {
     for (int32_t i = 0; i < n; ++i, au += su, av += sv)
       out[i] = bilinear<Repeat>(t, int32_t(au >> bits), int32_t(av >> bits), fetch);
     return;
@@ -144,27 +202,12 @@ __attribute__((always_inline)) inline void bilinear_run(const TextureTexels& t, 
   const int shifts[2] = {bits + 8 - size_bits[0], bits + 8 - size_bits[1]};
   int64_t a[2] = {au - (int64_t(128) << shifts[0]), av - (int64_t(128) << shifts[1])}, s[2] = {su, sv};
   const int right = common_shift(a, s, shifts);
-  au = a[0], av = a[1], su = s[0], sv = s[1];
-  const int32_t mu = int32_t(t.width) - 1, mv = int32_t(t.height) - 1;
-  for (int32_t i = 0; i < n; ++i, au += su, av += sv) {
-    const int64_t cu = au >> right, cv = av >> right;
-    const uint32_t fx = uint32_t(cu) & 0xFF, fy = uint32_t(cv) & 0xFF;
-    int32_t xa, xb, ya, yb;
-    if (Repeat) {
-      xa = int32_t(cu >> 8) & mu;
-      xb = (xa + 1) & mu;
-      ya = int32_t(cv >> 8) & mv;
-      yb = (ya + 1) & mv;
-    } else {
-      xa = wrap(cu >> 8, t.width, t.wrap_s);
-      xb = wrap((cu >> 8) + 1, t.width, t.wrap_s);
-      ya = wrap(cv >> 8, t.height, t.wrap_t);
-      yb = wrap((cv >> 8) + 1, t.height, t.wrap_t);
-    }
-    const uint64_t top = lerp_spread(spread(fetch(xa, ya)), spread(fetch(xb, ya)), fx);
-    const uint64_t bottom = lerp_spread(spread(fetch(xa, yb)), spread(fetch(xb, yb)), fx);
-    out[i] = unspread(lerp_spread(top, bottom, fy));
-  }
+  if (Repeat) return bilinear_loop<Wrapping::Mask>(t, right, a[0], a[1], s[0], s[1], fetch, n, out);
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+  if (within(a[0], s[0], n, right + 8, int32_t(t.width) - 2) && within(a[1], s[1], n, right + 8, int32_t(t.height) - 2))
+    return bilinear_loop<Wrapping::Inside>(t, right, a[0], a[1], s[0], s[1], fetch, n, out);
+#endif
+  bilinear_loop<Wrapping::Modes>(t, right, a[0], a[1], s[0], s[1], fetch, n, out);
 }
 
 // The textured colour at uv decoding texels one by one: nearest, the texel x colour; bilinear, the
@@ -244,6 +287,10 @@ void nearest_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTe
   const int shift = common_shift(a, s, shifts);
   au = a[0], av = a[1];
   const int64_t su = s[0], sv = s[1];
+  if (within(au, su, n, shift, width - 1) && within(av, sv, n, shift, height - 1)) {
+    for (int32_t i = 0; i < n; ++i, au += su, av += sv) out[i] = fetch(int32_t(au >> shift), int32_t(av >> shift));
+    return;
+  }
   for (int32_t i = 0; i < n; ++i, au += su, av += sv)
     out[i] = fetch(wrap_as<S>(au >> shift, width), wrap_as<T>(av >> shift, height));
 }
