@@ -106,12 +106,16 @@ inline BspNode node(const Scene& s, uint32_t i) {
   const uint32_t end = i + 1 < s.bsp_node_count ? uint32_t(nodes[i + 1].first_piece) : s.bsp_piece_count;
   out.piece_count = end - n.first_piece;
   out.subtree_pieces = n.subtree_pieces;
+  return out;
+}
+template <typename Index>
+inline void node_box(const Scene& s, uint32_t i, BspNode* out) {
+  const PackedBspNode<Index>& n = static_cast<const PackedBspNode<Index>*>(s.bsp_nodes)[i];
   const int cell = s.bounds_shift;
   for (int a = 0; a < 3; ++a) {
-    out.bounds_min[a] = s.info->bounds_min[a] + int32_t(uint32_t(n.cells[a]) << cell);
-    out.bounds_max[a] = s.info->bounds_min[a] + int32_t((uint32_t(n.cells[3 + a]) + 1) << cell) - 1;
+    out->bounds_min[a] = s.info->bounds_min[a] + int32_t(uint32_t(n.cells[a]) << cell);
+    out->bounds_max[a] = s.info->bounds_min[a] + int32_t((uint32_t(n.cells[3 + a]) + 1) << cell) - 1;
   }
-  return out;
 }
 }  // namespace scene_detail
 
@@ -125,9 +129,22 @@ inline BspPiece bsp_piece(const Scene& s, uint32_t p) {
   return s.wide ? scene_detail::piece<uint32_t>(s, p) : scene_detail::piece<uint16_t>(s, p);
 }
 
+// BSP node i without its box: plane in Q1.30, children, piece range (bounds_min/max left unset). What
+// a walk reads at every node; bsp_node_box adds the box where it is needed.
+inline BspNode bsp_node_unboxed(const Scene& s, uint32_t i) {
+  return s.wide ? scene_detail::node<uint32_t>(s, i) : scene_detail::node<uint16_t>(s, i);
+}
+
+// Fills node->bounds_min/max with node i's subtree box in world units.
+inline void bsp_node_box(const Scene& s, uint32_t i, BspNode* node) {
+  if (s.wide) scene_detail::node_box<uint32_t>(s, i, node); else scene_detail::node_box<uint16_t>(s, i, node);
+}
+
 // BSP node i, decoded: plane in Q1.30, children, piece range, subtree box in world units.
 inline BspNode bsp_node(const Scene& s, uint32_t i) {
-  return s.wide ? scene_detail::node<uint32_t>(s, i) : scene_detail::node<uint16_t>(s, i);
+  BspNode n = bsp_node_unboxed(s, i);
+  bsp_node_box(s, i, &n);
+  return n;
 }
 
 // Vertex normal, Q1.14 ((0,0,0) when the mesh had none).

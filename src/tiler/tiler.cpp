@@ -383,52 +383,52 @@ void clip_to_triangle(const View& view, const ScreenTriangle& part, const Convex
 
 // Subtree culling (Greene's hierarchical visibility applied to the BSP itself): a subtree of at
 // least kCullMinPieces pieces whose world box projects to a screen rectangle without an uncovered
-// sample is skipped whole. Smaller subtrees are cheaper to walk than to test; with the band plan a
-// piece outside the band costs a byte's look-up, so the test pays only on larger subtrees (measured:
-// bundled scene on the Cortex-M3, 320x240, 16-row bands: 13.48 M at 16, 13.13 M at 32, 12.71 M at 64,
-// 12.42 M at 128; 2CylinderEngine on the host 176.9 M at 16, 182.4 M at 64, 208.0 M at 256).
-constexpr uint32_t kCullMinPieces = 16;
-constexpr uint32_t kCullMinPiecesPlanned = 64;
+// sample is skipped whole. Smaller subtrees are cheaper to walk than to test. The test's four 64-bit
+// divisions are single instructions on a 64-bit host and library calls on the boards, where testing
+// pays only on larger subtrees (measured, 16-row bands with the plan: 2CylinderEngine on the host
+// 166.3 M at 4, 165.9 M at 8, 168.5 M at 16, 185.6 M at 64; the bundled scene on the Cortex-M3
+// 11.28 M at 8, 11.10 M at 16, 10.96 M at 64; without the plan, one band: 2CylinderEngine 137.0 M at
+// 4, 136.6 M at 8, 138.6 M at 16).
+constexpr bool kDivideIsCheap = sizeof(void*) >= 8;
+constexpr uint32_t kCullMinPieces = kDivideIsCheap ? 8 : 16;
+constexpr uint32_t kCullMinPiecesPlanned = kDivideIsCheap ? 8 : 64;
 
-// A node's box seen from the eye: its eight corners in view units, each transformed exactly (in
-// units of 2^-26 view unit, before the renderer's rounding) and widened by one view unit for that
-// rounding: floor - 1 .. floor + 2 covers every rounding of a point near the exact corner.
+// A node's box seen from the eye: the view-space bounds of its eight corners, each transformed exactly
+// (row · (corner − eye) in units of 2^-26 view unit, before the renderer's rounding), rounded down to
+// view units and widened by one view unit for that rounding (floor - 1 .. floor + 2 covers every
+// rounding of a point near an exact value). Every point of the box, as the renderer transforms it,
+// lies inside: the bounds of a linear function over a box are taken at its corners.
 struct ViewBox {
-  int64_t floor[8][3];  // x, y, z of each corner, rounded down to view units
-  int64_t lo(int c, int r) const { return floor[c][r] - 1; }
-  int64_t hi(int c, int r) const { return floor[c][r] + 2; }
+  int64_t lo[3], hi[3];  // x, y, z, view units
 };
 
-// False when the box reaches the near plane (then nothing is known and the caller assumes visible).
+// From the box's centre and extent: a row's smallest corner value picks, per axis, the lower bound
+// where the row's component is positive and the upper one elsewhere, so it is
+// (row · (min + max − 2 eye) − |row| · (max − min)) / 2, exactly (the numerator is even), and the
+// largest likewise: 18 multiplications for the 24 coordinates of the corners. False when the box
+// reaches the near plane (then nothing is known and the caller assumes visible).
 bool view_box(const View& view, const BspNode& node, ViewBox* out) {
-  constexpr int shift = kUnitBits - kViewFractionBits;
+  constexpr int shift = kUnitBits - kViewFractionBits + 1;  // and the halving
   const Vec3i* rows[3] = {&view.right, &view.down, &view.forward};
-  const int64_t d0[3] = {int64_t(node.bounds_min[0]) - view.eye.x, int64_t(node.bounds_min[1]) - view.eye.y,
-                         int64_t(node.bounds_min[2]) - view.eye.z};
-  const int64_t ext[3] = {int64_t(node.bounds_max[0]) - node.bounds_min[0],
-                          int64_t(node.bounds_max[1]) - node.bounds_min[1],
-                          int64_t(node.bounds_max[2]) - node.bounds_min[2]};
-  // base[r] = row r . (min - eye); step[a][r] = row r . (ext[a] e_a): |values| < 2^56 (eye and
-  // corners below 2^24), sums below 2^58.
-  int64_t base[3], step[3][3];
-  for (int r = 0; r < 3; ++r) {
-    const int64_t m[3] = {rows[r]->x, rows[r]->y, rows[r]->z};
-    base[r] = m[0] * d0[0] + m[1] * d0[1] + m[2] * d0[2];
-    for (int a = 0; a < 3; ++a) step[a][r] = m[a] * ext[a];
+  const int64_t eye[3] = {view.eye.x, view.eye.y, view.eye.z};
+  int64_t mid2[3], ext[3];  // |values| < 2^26: corners and eye below 2^24
+  for (int a = 0; a < 3; ++a) {
+    mid2[a] = int64_t(node.bounds_min[a]) + node.bounds_max[a] - 2 * eye[a];
+    ext[a] = int64_t(node.bounds_max[a]) - node.bounds_min[a];
   }
-  for (int c = 0; c < 8; ++c)
-    for (int r = 0; r < 3; ++r) {
-      const int64_t v =
-          base[r] + ((c & 1) ? step[0][r] : 0) + ((c & 2) ? step[1][r] : 0) + ((c & 4) ? step[2][r] : 0);
-      out->floor[c][r] = v >> shift;
-      if (r == 2 && out->lo(c, 2) <= view.near) return false;
-    }
-  return true;
+  for (int r = 0; r < 3; ++r) {
+    const int64_t m[3] = {rows[r]->x, rows[r]->y, rows[r]->z};  // Q1.30: products below 2^56, sums 2^58
+    const int64_t mid = m[0] * mid2[0] + m[1] * mid2[1] + m[2] * mid2[2];
+    const int64_t half = abs64(m[0]) * ext[0] + abs64(m[1]) * ext[1] + abs64(m[2]) * ext[2];
+    out->lo[r] = ((mid - half) >> shift) - 1;
+    out->hi[r] = ((mid + half) >> shift) + 2;
+  }
+  return out->lo[2] > view.near;
 }
 
-// Projected offsets from the screen centre (subpixels) of a widened corner: x/z over the widened cell
-// takes its extremes at the cell's corners; for a coordinate >= 0 the smallest depth gives the largest
-// value. The projection of a convex set in front of the eye lies inside the hull of its corners'.
+// Projected offsets from the screen centre (subpixels) of the widened box: x/z over it takes its
+// extremes at its corners; for a coordinate >= 0 the smallest depth gives the largest value. The
+// projection of a convex set in front of the eye lies inside the hull of its corners' projections.
 int64_t offset_low(int64_t focal, int64_t lo, int64_t z_lo, int64_t z_hi) {
   return div_floor(focal * lo, lo >= 0 ? z_hi : z_lo);
 }
@@ -447,42 +447,28 @@ constexpr int kBoxMarginSamples = 2;
 // |K z| < 2^55).
 bool box_outside_rows(const View& view, const ViewBox& box, int32_t top, int32_t bottom) {
   const int64_t f = view.focal_q8;
-  // Above: max over corners of offset_high < (top - margin) * 256 - center_y.
+  // Above: offset_high of the box < (top - margin) * 256 - center_y.
   const int64_t above = (int64_t(top) - kBoxMarginSamples) * kSubpixelOne - view.center_y - 1;
-  // Below: min over corners of offset_low >= (bottom + margin) * 256 - center_y.
+  // Below: offset_low of the box >= (bottom + margin) * 256 - center_y.
   const int64_t below = (int64_t(bottom) + kBoxMarginSamples) * kSubpixelOne - view.center_y;
-  bool is_above = true, is_below = true;
-  for (int c = 0; c < 8 && (is_above || is_below); ++c) {
-    const int64_t z_lo = box.lo(c, 2), z_hi = box.hi(c, 2);
-    const int64_t y_lo = box.lo(c, 1), y_hi = box.hi(c, 1);
-    is_above = is_above && f * y_hi < above * (y_hi >= 0 ? z_lo : z_hi);
-    is_below = is_below && f * y_lo >= below * (y_lo >= 0 ? z_hi : z_lo);
-  }
-  return is_above || is_below;
+  const int64_t y_lo = box.lo[1], y_hi = box.hi[1], z_lo = box.lo[2], z_hi = box.hi[2];
+  return f * y_hi < above * (y_hi >= 0 ? z_lo : z_hi) || f * y_lo >= below * (y_lo >= 0 ? z_hi : z_lo);
 }
 
 // The sample rectangle (inclusive, unclipped) that every sample any piece inside the box can write
-// lies in. Conservative by construction (see ViewBox, offset_low, kBoxMarginSamples).
+// lies in. Conservative by construction (see ViewBox, offset_low, kBoxMarginSamples); four divisions.
 void box_screen_rect(const View& view, const ViewBox& box, int32_t* x0, int32_t* y0, int32_t* x1,
                      int32_t* y1) {
-  int64_t sx0 = INT64_MAX, sy0 = INT64_MAX, sx1 = INT64_MIN, sy1 = INT64_MIN;
-  const int64_t f = view.focal_q8;
-  for (int c = 0; c < 8; ++c) {
-    const int64_t z_lo = box.lo(c, 2), z_hi = box.hi(c, 2);
-    sx0 = min_of(sx0, offset_low(f, box.lo(c, 0), z_lo, z_hi));
-    sx1 = max_of(sx1, offset_high(f, box.hi(c, 0), z_lo, z_hi));
-    sy0 = min_of(sy0, offset_low(f, box.lo(c, 1), z_lo, z_hi));
-    sy1 = max_of(sy1, offset_high(f, box.hi(c, 1), z_lo, z_hi));
-  }
+  const int64_t f = view.focal_q8, z_lo = box.lo[2], z_hi = box.hi[2];
   // Clamped far outside the screen so the int32 results stay meaningful.
   const int64_t lim = int64_t(kMaxScreenDim) * 4;
   auto sample = [&](int64_t center, int64_t s, int64_t margin) {
     return int32_t(clamp_to<int64_t>(floor_shift(center + s, kSubpixelBits) + margin, -lim, lim));
   };
-  *x0 = sample(view.center_x, sx0, -kBoxMarginSamples);
-  *x1 = sample(view.center_x, sx1, kBoxMarginSamples);
-  *y0 = sample(view.center_y, sy0, -kBoxMarginSamples);
-  *y1 = sample(view.center_y, sy1, kBoxMarginSamples);
+  *x0 = sample(view.center_x, offset_low(f, box.lo[0], z_lo, z_hi), -kBoxMarginSamples);
+  *x1 = sample(view.center_x, offset_high(f, box.hi[0], z_lo, z_hi), kBoxMarginSamples);
+  *y0 = sample(view.center_y, offset_low(f, box.lo[1], z_lo, z_hi), -kBoxMarginSamples);
+  *y1 = sample(view.center_y, offset_high(f, box.hi[1], z_lo, z_hi), kBoxMarginSamples);
 }
 
 // The rows of the screen one band covers: the pyramid holds only these, and polygons are moved into
@@ -677,7 +663,7 @@ class TilerFrame {
   Status walk_bsp();
   // True when no sample of the band that a piece of the node's subtree could write is still
   // uncovered (or the subtree has no pieces).
-  bool subtree_hidden(const BspNode& node);
+  bool subtree_hidden(uint32_t index, BspNode node);
   // Projects, culls and tiles one piece into the band's pyramid; false when the sink refused a write.
   bool draw_piece(uint32_t index);
   // The plan byte of a piece facing the eye, from its world vertices.
@@ -834,7 +820,7 @@ void TilerFrame::plan_textures() {
     BspFrame& f = stack_[sp - 1];
     const uint32_t index = f & ~kNearDone;
     if (index >= scene_.bsp_node_count) break;
-    const BspNode node = bsp_node(scene_, index);
+    const BspNode node = bsp_node_unboxed(scene_, index);
     uint32_t near, far;
     children(node, &near, &far);
     if (!(f & kNearDone)) {
@@ -871,11 +857,11 @@ Status TilerFrame::walk_bsp() {
     BspFrame& f = stack_[sp - 1];
     const uint32_t index = f & ~kNearDone;
     if (index >= scene_.bsp_node_count) return error(StatusCode::BadScene, "BSP child out of range");
-    const BspNode node = bsp_node(scene_, index);
+    const BspNode node = bsp_node_unboxed(scene_, index);
     uint32_t near, far;
     children(node, &near, &far);
     if (!(f & kNearDone)) {
-      if (node.subtree_pieces >= cull_min && subtree_hidden(node)) {
+      if (node.subtree_pieces >= cull_min && subtree_hidden(index, node)) {
         // Every piece below is hidden (or outside the band).
         pieces_done += node.subtree_pieces;
         st_->triangles_culled += node.subtree_pieces;
@@ -902,8 +888,9 @@ Status TilerFrame::walk_bsp() {
   return ok_status();
 }
 
-bool TilerFrame::subtree_hidden(const BspNode& node) {
+bool TilerFrame::subtree_hidden(uint32_t index, BspNode node) {
   if (node.subtree_pieces == 0) return true;
+  bsp_node_box(scene_, index, &node);
   ViewBox vbox;
   if (!view_box(view_, node, &vbox)) return false;
   // Most subtrees lie outside most bands: that is decided without a division.

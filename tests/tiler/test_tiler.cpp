@@ -836,4 +836,59 @@ TEST(TilerCull, OfficeMatchesUnculledRender) {
   EXPECT_GT(culled_total, hint.stats.bsp_subtrees_culled);
 }
 
+// Culled and unculled frames of a scene from one camera, 8-row bands, with and without the band plan
+// (the arena's spare bytes; each has its own threshold): equal images; returns the subtrees culled.
+uint32_t expect_same_with_and_without_plan(const ml::Scene& scene, const ml::Camera& cam) {
+  const Unculled plain(scene);
+  uint32_t culled_total = 0;
+  for (bool spare : {false, true}) {
+    ml::RenderOptions opt;
+    opt.shading = ml::ShadingMode::Ids;
+    opt.output.band_rows = 8;
+    auto run = [&](const ml::Scene& s) {
+      Frame f;
+      const size_t bytes = ml::render_arena_bytes(s, cam, opt) + (spare ? ml::render_spare_bytes(s, cam, opt) : 0);
+      std::vector<uint8_t> mem(bytes, mlhost::kPoisonByte);
+      ml::Arena arena(mem.data(), mem.size());
+      f.status = ml::render(s, cam, opt, arena, f.sink, &f.stats);
+      return f;
+    };
+    const Frame culled = run(scene);
+    expect_same_frame(culled, run(plain.scene), cam);
+    culled_total += culled.stats.bsp_subtrees_culled;
+  }
+  return culled_total;
+}
+
+// The subtree test (the box's view-space bounds) on random scenes and the compiled office, seen from
+// random eyes, some among the triangles and close to them, some outside: every culled frame equals
+// the unculled one, and the eyes together cull subtrees.
+TEST(TilerCull, RandomEyesWithBandsAndPlanMatchUnculledRender) {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> coord(-1400, 1400);
+  auto random_camera = [&](int k, const ml::Vec3i& centre, int32_t radius) {
+    ml::Camera cam = tiler_test::test_camera(k % 2 ? 160 : 97, k % 2 ? 120 : 133);
+    const int64_t reach = k < 2 ? radius / 2 : radius * 2;  // among the triangles, or outside
+    auto at = [&](int32_t c) { return int32_t(c + coord(rng) * reach / 1400); };
+    cam.eye = ml::Vec3i{at(centre.x), at(centre.y), at(centre.z)};
+    cam.target = ml::Vec3i{centre.x + coord(rng) * radius / 8000, centre.y, centre.z + coord(rng) * radius / 8000};
+    if (cam.eye.x == cam.target.x && cam.eye.z == cam.target.z) cam.eye.x += 1 + radius / 10;
+    cam.near = std::max(1, radius / 1024);
+    return cam;
+  };
+  uint32_t culled_total = 0;
+  for (int rep = 0; rep < 4; ++rep) {
+    tiler_test::TestScene ts;
+    ts.build(tiler_test::random_scene(rng, 150 + rep * 20, 120));
+    for (int k = 0; k < 4; ++k) culled_total += expect_same_with_and_without_plan(ts.scene, random_camera(k, ml::Vec3i{0, 0, 0}, 900));
+  }
+  const ml::CompileResult r = ml::build_office_scene(4);
+  ASSERT_TRUE(r.ok) << r.error;
+  ml::Scene s;
+  ASSERT_TRUE(ml::read_scene(r.blob.data(), r.blob.size, &s).ok());
+  const ml::Vec3i c{s.info->sphere_center[0], s.info->sphere_center[1], s.info->sphere_center[2]};
+  for (int k = 0; k < 8; ++k) culled_total += expect_same_with_and_without_plan(s, random_camera(k, c, s.info->sphere_radius));
+  EXPECT_GT(culled_total, 0u);
+}
+
 }  // namespace
