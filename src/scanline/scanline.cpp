@@ -100,30 +100,42 @@ void start_span(ActiveTri* t) {
   }
 }
 
+// Edge p -> q of step_span: walks the edge's boundary column *col to this row's crossing and narrows
+// [*left, *right]; false when the edge is horizontal and the row lies outside it. row = 256 Y + oy.
+// E*den at column X is lattice_row(edge_function(p, q)) at X, written relative to p, which takes
+// fewer products: a (256 X + ox - den p.x) + b (row - den p.y), minus den off a top-left edge.
+static inline bool step_edge(int32_t px, int32_t py, int32_t qx, int32_t qy, const Lattice& lat, int64_t row,
+                             int32_t lo, int32_t hi, int16_t* col, int32_t* left, int32_t* right) {
+  const int64_t a = int64_t(py) - qy, b = int64_t(qx) - px, k = a * kSubpixelOne;
+  int32_t x = *col;
+  int64_t v = a * (int64_t(x) * kSubpixelOne + lat.ox - int64_t(lat.den) * px) + b * (row - int64_t(lat.den) * py);
+  if (!is_top_left(a, b)) v -= lat.den;
+  if (k > 0) {
+    // Left edge: the first column in [lo, hi + 1] from which E >= 0.
+    while (x > lo && v - k >= 0) { --x; v -= k; }
+    while (x <= hi && v < 0) { ++x; v += k; }
+    *left = max_of(*left, x);
+  } else if (k < 0) {
+    // Right edge: the last column in [lo - 1, hi] up to which E >= 0.
+    while (x < hi && v + k >= 0) { ++x; v += k; }
+    while (x >= lo && v < 0) { --x; v -= k; }
+    *right = min_of(*right, x);
+  } else if (v < 0) {
+    return false;  // horizontal edge with the row outside it
+  }
+  *col = int16_t(x);
+  return true;
+}
+
 bool step_span(ActiveTri* t, const Lattice& lat, int32_t y, int32_t* min_x, int32_t* max_x) {
   const int32_t lo = t->box_x0, hi = t->box_x1;
+  const int64_t row = int64_t(y) * kSubpixelOne + lat.oy;
   int32_t left = lo, right = hi;
-  bool empty = false;
-  for (int i = 0; i < 3; ++i) {
-    const LatticeEdge e = lattice_edge(*t, lat, i, y);
-    int32_t x = t->edge_x[i];
-    int64_t v = e.k * x + e.r;  // E*den at column x
-    if (e.k > 0) {
-      // Left edge: the first column in [lo, hi + 1] from which E >= 0.
-      while (x > lo && v - e.k >= 0) { --x; v -= e.k; }
-      while (x <= hi && v < 0) { ++x; v += e.k; }
-      left = max_of(left, x);
-    } else if (e.k < 0) {
-      // Right edge: the last column in [lo - 1, hi] up to which E >= 0.
-      while (x < hi && v + e.k >= 0) { ++x; v += e.k; }
-      while (x >= lo && v < 0) { --x; v -= e.k; }
-      right = min_of(right, x);
-    } else if (e.r < 0) {
-      empty = true;  // horizontal edge with the row outside it
-    }
-    t->edge_x[i] = int16_t(x);
-  }
-  if (empty || left > right) return false;
+  // Every edge is stepped, even past an empty one, so that each keeps its column for the next row.
+  const bool e0 = step_edge(t->vx[0], t->vy[0], t->vx[1], t->vy[1], lat, row, lo, hi, &t->edge_x[0], &left, &right);
+  const bool e1 = step_edge(t->vx[1], t->vy[1], t->vx[2], t->vy[2], lat, row, lo, hi, &t->edge_x[1], &left, &right);
+  const bool e2 = step_edge(t->vx[2], t->vy[2], t->vx[0], t->vy[0], lat, row, lo, hi, &t->edge_x[2], &left, &right);
+  if (!(e0 && e1 && e2) || left > right) return false;
   *min_x = left;
   *max_x = right;
   return true;
@@ -340,8 +352,10 @@ inline size_t round8(size_t v) { return (v + 7) & ~size_t(7); }
 
 // Sorting the ySortList and finding m_max take a temporary: two arrays of 4 B a sample row (a histogram
 // for m_max, then bucket offsets for sorting by minY without comparisons) or, when those would be
-// larger, a sorted copy of max_y (2 B a piece) after a quicksort.
-inline bool by_rows(uint32_t n, const Lattice& lat) { return (size_t(lat.ny) + 1) * 8 <= size_t(n) * 2; }
+// larger, a sorted copy of max_y (2 B a piece) after a quicksort. The row arrays are also taken when
+// they fit in the row buffers the rows phase allocates anyway (keepObj, sums, band): the temporary is
+// released before those, so the peak stays the same.
+inline size_t row_arrays_bytes(const Lattice& lat) { return (size_t(lat.ny) + 1) * 8; }
 
 // A yActiveList slot's texel table (texture/sampler.h) for its colour, valid while the pager's table
 // generation stays the same; untabled counts the samples shaded without one.
@@ -354,6 +368,7 @@ struct SlotLut {
 struct Sizes {
   size_t ysort, drawn, temp, yactive, ord, xactive, keep, acc, band;
   size_t pager, texslots;  // texture pool and per-slot texture state (0 untextured)
+  bool by_rows;            // the ySortList is sorted by rows (temp: two row arrays), else quicksorted
   size_t phase1() const { return 7 + pager + ysort + drawn + temp; }
   size_t phase2() const { return 7 + pager + ysort + drawn + yactive + ord + xactive + keep + acc + band + texslots; }
   size_t need() const { return max_of(phase1(), phase2()); }
@@ -363,13 +378,14 @@ Sizes sizes_for(const Scene& scene, const Setup& s, uint32_t n, uint32_t m) {
   Sizes z;
   z.ysort = round8(size_t(n) * sizeof(YSortEntry));
   z.drawn = round8(((size_t(scene.triangle_count) + 31) / 32) * 4);
-  z.temp = round8(by_rows(n, s.lat) ? (size_t(s.lat.ny) + 1) * 8 : size_t(n) * 2);
   z.yactive = round8(size_t(m) * sizeof(ActiveTri));
   z.ord = round8(size_t(m) * 4);
   z.xactive = round8(size_t(m) * 4);
   z.keep = 2 * round8(size_t(s.width) * 4);
   z.acc = s.accumulate ? round8(size_t(s.width) * 8) : 0;
   z.band = s.band_bytes;
+  z.by_rows = row_arrays_bytes(s.lat) <= max_of(size_t(n) * 2, z.keep + z.acc + z.band);
+  z.temp = round8(z.by_rows ? row_arrays_bytes(s.lat) : size_t(n) * 2);
   z.pager = s.pager_bytes;
   z.texslots = s.pager_bytes ? round8(size_t(m) * sizeof(TexturePlanes)) + round8(size_t(m) * 4) +
                                    round8(size_t(m) * sizeof(SlotLut))
@@ -569,7 +585,10 @@ struct Renderer {
   }
 
   void ensure_colors(ActiveTri& a) {
-    if (a.flags & kColorsReady) return;
+    if (!(a.flags & kColorsReady)) make_colors(a);
+  }
+  // Out of line: once a piece, off the per-run paths.
+  [[gnu::noinline]] void make_colors(ActiveTri& a) {
     TriangleColors colors;
     shade_triangle(*scene, light, opt->shading, a.id, (a.flags & kFront) != 0, &colors);
     if (colors.smooth) {
@@ -787,14 +806,15 @@ struct Renderer {
   // call, compared with the pixel and its neighbours.
   Pixel keep_or_shade(ActiveTri& front, int32_t x, int32_t y, uint32_t key) {
     const int32_t c = pixel_of(x);
-    const uint32_t kr = keep_rgb[c];
-    if (!varying) {  // one colour a surface: kept is exact
-      if (keep_surface[c] == key && !textured(slot_of(front))) return kr & 0xFFFFFF;
-      const Pixel col = shade(front, x, y);
-      keep_rgb[c] = col | kValid | (kr & kForce);
+    if (!varying) {  // one colour a surface (a triangle): the kept colour is the piece's own
+      if (keep_surface[c] == key && !textured(slot_of(front))) {
+        ensure_colors(front);  // the colour may have been shaded for another piece of the triangle
+        return front.color[0];
+      }
       keep_surface[c] = key;
-      return col;
+      return shade(front, x, y);
     }
+    const uint32_t kr = keep_rgb[c];
     // Adaptive-stochastic shading (§3.4.2): the generator is drawn only for a kept, unforced surface.
     // Textured surfaces are shaded at every sample: the l x l samples filter the texels (§5).
     if (keep_surface[c] == key && !(kr & kForce) && !textured(slot_of(front)) && rng.next() >= p_threshold)
@@ -854,16 +874,17 @@ struct Renderer {
   void single_run_constant(ActiveTri& a, int32_t x0, int32_t x1) {
     const uint32_t key = surface_key(a);
     ensure_colors(a);
-    const Pixel col = a.color[0];
     const int32_t q = s.lat.q, last = s.width - 1;
     const int32_t c1 = min_of(x1 / q, last);
+    uint32_t* const surface = keep_surface;
+    uint32_t calls = 0;  // shade(): the colour is a.color[0]
     for (int32_t c = min_of(x0 / q, last); c <= c1; ++c) {
-      if (keep_surface[c] == key) continue;
-      ++stats->shading_calls;  // shade(): the colour is col
-      keep_rgb[c] = col | kValid | (keep_rgb[c] & kForce);
-      keep_surface[c] = key;
+      if (surface[c] == key) continue;
+      surface[c] = key;
+      ++calls;
     }
-    emit_run(x0, x1, col);
+    stats->shading_calls += calls;
+    emit_run(x0, x1, a.color[0]);
   }
 
   // single_run at l > 1: keep_or_shade and emit_sample for each sample, with the pixel cursor, the
@@ -1005,11 +1026,18 @@ struct Renderer {
         ++j;
       }
       if (best < 0) continue;  // every span ended: the k == 0 branch handles x
-      if (k == 1 && mode != ShadingMode::Lines && !(act[best].flags & kBlend)) {
-        const int32_t end = min_of(int32_t(act[best].max_x), min_of(next, lat.nx) - 1);
-        single_run(act[best], x, end, y);
-        x = end + 1;
-        continue;
+      if (mode != ShadingMode::Lines && !(act[best].flags & kBlend)) {
+        // Until the next span starts, the opaque nearest piece keeps every sample it still wins: a run
+        // of one surface, resolved in bulk (a single sample costs less sample by sample, below).
+        int32_t end = min_of(int32_t(act[best].max_x), min_of(next, lat.nx) - 1);
+        if (k > 1) end = winner_end(uint32_t(best), k, x, end);
+        if (k == 1 || end > x) {
+          for (uint32_t j = 0; k > 1 && j < k; ++j)
+            if (xact[j] != uint32_t(best)) act[xact[j]].z_run += act[xact[j]].gx * uint64_t(int64_t(end - x));
+          single_run(act[best], x, end, y);
+          x = end + 1;
+          continue;
+        }
       }
       ++stats->geometry_samples;
       if (mode == ShadingMode::Ids) {
@@ -1026,6 +1054,25 @@ struct Renderer {
       }
       ++x;
     }
+  }
+
+  // The last sample in [x, end] up to which piece `best`, nearest at x, stays nearest among the k
+  // active spans (ties to the smaller id, as in the sweep): each rival's depth lead is stepped sample by
+  // sample, no division. Where both spans hold x and x + 1 the depths are true values in [0, 2^46], so
+  // their differences and steps are exact in int64 (z_run is one step ahead, at x + 1).
+  int32_t winner_end(uint32_t best, uint32_t k, int32_t x, int32_t end) const {
+    const ActiveTri& b = act[best];
+    for (uint32_t j = 0; j < k && end > x; ++j) {
+      const ActiveTri& r = act[xact[j]];
+      const int32_t stop = min_of(end, int32_t(r.max_x));
+      if (xact[j] == best || stop <= x) continue;
+      const int64_t step = int64_t(b.gx - r.gx);
+      if (step >= 0) continue;  // the lead never shrinks
+      int64_t lead = int64_t(b.z_run - r.z_run);
+      for (int32_t t = x + 1; t <= stop; ++t, lead += step)
+        if (lead < 0 || (lead == 0 && r.id < b.id)) { end = t - 1; break; }
+    }
+    return end;
   }
 
   // Hidden-line mode (§6): a pixel is on a line where the visible surface differs from the one to
@@ -1202,7 +1249,7 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
   void* temp = arena.allocate(z.temp, 8);
   note();
   uint32_t m;
-  if (by_rows(n, s.lat)) {
+  if (z.by_rows) {
     int32_t* rows = static_cast<int32_t*>(temp);
     m = m_from_rows(ys, n, s.lat.ny, rows);
     bucket_sort_rows(ys, n, s.lat.ny, reinterpret_cast<uint32_t*>(rows), reinterpret_cast<uint32_t*>(rows) + s.lat.ny + 1,
