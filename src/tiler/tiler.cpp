@@ -234,8 +234,8 @@ class BandWriter : public CoverageWriter {
     return texture_planes_;
   }
 
-  // A block of a textured piece: flat colours row by row (texture/sampler.h texture_row), smooth
-  // ones pixel by pixel.
+  // A block of a textured piece: flat colours a few rows at a time (texture/sampler.h texture_rows),
+  // smooth ones pixel by pixel.
   void write_textured(int x, int y, int w, int h) {
     stats_->shading_calls += uint64_t(w) * uint64_t(h);
     const uint8_t* bytes = colors_.smooth ? nullptr : pager_->get(texture_);
@@ -251,10 +251,20 @@ class BandWriter : public CoverageWriter {
     const TextureTexels& t = scene_->texture_texels[texture_];
     Pixel lut_colour;
     const Pixel* lut = pager_->texel_lut(texture_, colors_.flat, bytes, uint32_t(w) * uint32_t(h), &lut_colour);
+    TexturePlanes& planes = texture_planes();
+    if (w <= kRowPixels) {  // as many whole rows at once as the row buffer holds
+      const int per = kRowPixels / w;
+      for (int yy = y; yy < y + h; yy += per) {
+        const int rows = min_of(per, y + h - yy);
+        texture_rows(planes, t, bytes, lut, lut_colour, colors_.flat, x, yy, w, rows, row_);
+        for (int r = 0; r < rows; ++r) out_.put_row(x, yy + r, row_ + r * w, w);
+      }
+      return;
+    }
     for (int yy = y; yy < y + h; ++yy)
       for (int x0 = x; x0 < x + w; x0 += kRowPixels) {
         const int n = min_of(kRowPixels, x + w - x0);
-        texture_row(texture_planes(), t, bytes, lut, lut_colour, colors_.flat, x0, yy, n, row_);
+        texture_row(planes, t, bytes, lut, lut_colour, colors_.flat, x0, yy, n, row_);
         out_.put_row(x0, yy, row_, n);
       }
   }
