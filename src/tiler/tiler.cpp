@@ -113,10 +113,11 @@ class BandWriter : public CoverageWriter {
     first_write();
     if (factor_ == 1 && !cosine_) {
       // One colour for the whole block: the mask goes to the band as it is, not run by run.
-      if (texture_ != kNone || colors_.smooth) return CoverageWriter::write_block(mask, x, band_y);
-      stats_->pixel_writes += uint64_t(__builtin_popcountll(mask));
-      out_.fill_mask(mask, x, band_y + top_, colors_.flat);
-      return true;
+      if (texture_ == kNone && !colors_.smooth && out_.fill_mask(mask, x, band_y + top_, colors_.flat)) {
+        stats_->pixel_writes += uint64_t(__builtin_popcountll(mask));
+        return true;
+      }
+      return CoverageWriter::write_block(mask, x, band_y);
     }
     if (cosine_) {
       cosine_->add_block(mask, x, band_y, colours_);
