@@ -3,6 +3,8 @@
 // background is tiled through the root mask last. See docs/tiler.md.
 #include "tiler/tiler.h"
 
+#include <string.h>
+
 #include "core/band.h"
 #include "core/jitter.h"
 #include "shade/shade.h"
@@ -623,9 +625,9 @@ class BandPlan {
   // bytes: one a piece, then (facing_bytes) two bits a triangle, or none (the facing is then not kept).
   void init(uint8_t* bytes, uint32_t pieces, uint8_t* facing_bytes, uint32_t triangles, int bands) {
     bytes_ = bytes;
-    for (uint32_t i = 0; i < pieces; ++i) bytes_[i] = kUnknown;
+    memset(bytes_, kUnknown, pieces);  // a byte at a time took 5 instructions a piece
     facing_ = facing_bytes;  // facing + 2 in two bits a triangle, 0 = unknown
-    for (uint32_t i = 0; facing_ && i < (triangles + 3) / 4; ++i) facing_[i] = 0;
+    if (facing_) memset(facing_, 0, (triangles + 3) / 4);
     group_ = (bands + 15) / 16;
   }
   bool active() const { return bytes_ != nullptr; }
