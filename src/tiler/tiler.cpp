@@ -82,7 +82,10 @@ class BandWriter : public CoverageWriter {
     view_ = view;
     segment_rows_ = segment_rows;
   }
-  void begin_part(const ScreenTriangle* part) {
+  // world: the piece's triangle's world vertices when read already (for its shading; valid while the
+  // part is tiled), or null.
+  void begin_part(const ScreenTriangle* part, const Vec3i* world) {
+    world_ = world;
     part_ = part;
     planes_ready_ = false;
   }
@@ -109,8 +112,14 @@ class BandWriter : public CoverageWriter {
   }
 
   bool write_block(uint64_t mask, int x, int band_y) override {
-    if (factor_ == 1) return CoverageWriter::write_block(mask, x, band_y);
     first_write();
+    if (factor_ == 1 && !cosine_) {
+      // One colour for the whole block: the mask goes to the band as it is, not run by run.
+      if (texture_ != kNone || colors_.smooth) return CoverageWriter::write_block(mask, x, band_y);
+      stats_->pixel_writes += uint64_t(__builtin_popcountll(mask));
+      out_.fill_mask(mask, x, band_y + top_, colors_.flat);
+      return true;
+    }
     if (cosine_) {
       cosine_->add_block(mask, x, band_y, colours_);
       return true;
@@ -130,7 +139,7 @@ class BandWriter : public CoverageWriter {
   void first_write() {
     wrote_piece_ = true;
     if (shaded_) return;
-    shade_triangle(*scene_, *light_, mode_, triangle_, front_facing_, &colors_);
+    shade_triangle(*scene_, *light_, mode_, triangle_, front_facing_, &colors_, world_);
     shaded_ = true;
     ++stats_->shading_calls;
   }
@@ -227,8 +236,8 @@ class BandWriter : public CoverageWriter {
     return texture_planes_;
   }
 
-  // A block of a textured piece: flat colours row by row (texture/sampler.h texture_row), smooth
-  // ones pixel by pixel.
+  // A block of a textured piece: flat colours a few rows at a time (texture/sampler.h texture_rows),
+  // smooth ones pixel by pixel.
   void write_textured(int x, int y, int w, int h) {
     stats_->shading_calls += uint64_t(w) * uint64_t(h);
     const uint8_t* bytes = colors_.smooth ? nullptr : pager_->get(texture_);
@@ -244,10 +253,20 @@ class BandWriter : public CoverageWriter {
     const TextureTexels& t = scene_->texture_texels[texture_];
     Pixel lut_colour;
     const Pixel* lut = pager_->texel_lut(texture_, colors_.flat, bytes, uint32_t(w) * uint32_t(h), &lut_colour);
+    TexturePlanes& planes = texture_planes();
+    if (w <= kRowPixels) {  // as many whole rows at once as the row buffer holds
+      const int per = kRowPixels / w;
+      for (int yy = y; yy < y + h; yy += per) {
+        const int rows = min_of(per, y + h - yy);
+        texture_rows(planes, t, bytes, lut, lut_colour, colors_.flat, x, yy, w, rows, row_);
+        for (int r = 0; r < rows; ++r) out_.put_row(x, yy + r, row_ + r * w, w);
+      }
+      return;
+    }
     for (int yy = y; yy < y + h; ++yy)
       for (int x0 = x; x0 < x + w; x0 += kRowPixels) {
         const int n = min_of(kRowPixels, x + w - x0);
-        texture_row(texture_planes(), t, bytes, lut, lut_colour, colors_.flat, x0, yy, n, row_);
+        texture_row(planes, t, bytes, lut, lut_colour, colors_.flat, x0, yy, n, row_);
         out_.put_row(x0, yy, row_, n);
       }
   }
@@ -298,6 +317,7 @@ class BandWriter : public CoverageWriter {
   SampleFilter* cosine_ = nullptr;
   int top_ = 0;
   const Scene* scene_ = nullptr;
+  const Vec3i* world_ = nullptr;
   const Light* light_ = nullptr;
   ShadingMode mode_ = ShadingMode::Flat;
   uint32_t triangle_ = 0;
@@ -1026,7 +1046,7 @@ bool TilerFrame::draw_piece(uint32_t index) {
     }
     if (!band_.clip(&poly)) continue;
     ++st_->triangles_tiled;
-    writer_->begin_part(&parts[i]);
+    writer_->begin_part(&parts[i], have_whole ? whole_world : nullptr);
     if (tiler_.tile(poly, *writer_) == TileResult::Failed)
       return false;
   }
