@@ -359,11 +359,11 @@ inline size_t round8(size_t v) { return (v + 7) & ~size_t(7); }
 inline size_t row_arrays_bytes(const Lattice& lat) { return (size_t(lat.ny) + 1) * 8; }
 
 // A yActiveList slot's texel table (texture/sampler.h) for its colour, valid while the pager's table
-// generation stays the same.
+// generation stays the same; untabled counts the samples shaded without one.
 struct SlotLut {
   const Pixel* lut;
   Pixel colour, lut_colour;
-  uint32_t generation;
+  uint32_t generation, untabled;
 };
 
 struct Sizes {
@@ -546,7 +546,7 @@ struct Renderer {
     if (t.front_facing) flags |= kFront;
     if (tex_of) {
       tex_of[slot] = triangle_texture(*scene, id);
-      tex_lut[slot] = SlotLut{nullptr, 0, 0, ~0u};
+      tex_lut[slot] = SlotLut{nullptr, 0, 0, ~0u, 0};
       pager.add_user(tex_of[slot]);
     }
     const Material& mat = material_of(*scene, id);
@@ -631,15 +631,22 @@ struct Renderer {
     int32_t uv[2];
     texture_uv(planes_of(slot, id), x, y, uv);
     const TextureTexels& t = scene->texture_texels[texture];
-    // A flat piece's samples keep the texel table the pager has cached for its colour, if any (the
-    // same colours as without it; looked up again when the pager makes a table).
+    if (act[slot].flags & kSmooth) return sample_texture(t, bytes, uv, c);
+    // A flat piece's samples keep the texel table the pager has cached for its colour (the same
+    // colours as without it; looked up again when the pager makes a table). Without one, the pager
+    // makes one once the slot has shaded as many samples as a run it would make one for.
     SlotLut& l = tex_lut[slot];
-    if (!(act[slot].flags & kSmooth) && (l.generation != pager.lut_generation() || l.colour != c)) {
+    if (l.generation != pager.lut_generation() || l.colour != c) {
       l.lut = pager.texel_lut(texture, c, bytes, 0, &l.lut_colour);
       l.colour = c;
       l.generation = pager.lut_generation();
+      l.untabled = 0;
     }
-    if (!(act[slot].flags & kSmooth) && l.lut) return sample_texture(t, bytes, l.lut, l.lut_colour, uv, c);
+    if (!l.lut && ++l.untabled >= TexturePager::kLutMinSamples) {
+      l.lut = pager.texel_lut(texture, c, bytes, l.untabled, &l.lut_colour);
+      l.generation = pager.lut_generation();
+    }
+    if (l.lut) return sample_texture(t, bytes, l.lut, l.lut_colour, uv, c);
     return sample_texture(t, bytes, uv, c);
   }
   TexturePlanes& planes_of(uint32_t slot, uint32_t id) {

@@ -55,7 +55,7 @@ int segment_bits(const TexturePlanes& p, const ExactUv& s, const ExactUv& e) {
 }
 
 // The segment of row y starting at sample x, from the cache or decided now.
-const TextureSegment& segment_at(TexturePlanes& p, int32_t x, int32_t y) {
+TextureSegment& segment_at(TexturePlanes& p, int32_t x, int32_t y) {
   TextureSegment& sg = p.rows ? p.rows[uint32_t(y) & p.row_mask] : p.one;
   if (sg.y == y && sg.x == x) return sg;
   // Stepping right along a row, the previous segment's end is this one's start.
@@ -64,20 +64,21 @@ const TextureSegment& segment_at(TexturePlanes& p, int32_t x, int32_t y) {
   exact_texture_uv(p, x + kTextureSegment, y, &sg.ends[1]);
   sg.x = x;
   sg.y = y;
+  sg.last_x = -1;
   sg.bits = segment_bits(p, sg.ends[0], sg.ends[1]);
   return sg;
 }
 
-// The exact coordinates at sample (x, y) inside segment sg: its ends, the last one evaluated, or now.
-ExactUv exact_in(TexturePlanes& p, const TextureSegment& sg, int32_t x, int32_t y) {
+// The exact coordinates at sample x inside segment sg (of its row): its ends, the last one evaluated
+// in it, or now.
+ExactUv exact_in(const TexturePlanes& p, TextureSegment& sg, int32_t x) {
   if (x == sg.x) return sg.ends[0];
   if (x == sg.x + kTextureSegment) return sg.ends[1];
-  if (x != p.last_x || y != p.last_y) {
-    exact_texture_uv(p, x, y, &p.last);
-    p.last_x = x;
-    p.last_y = y;
+  if (x != sg.last_x) {
+    exact_texture_uv(p, x, sg.y, &sg.last);
+    sg.last_x = x;
   }
-  return p.last;
+  return sg.last;
 }
 
 }  // namespace
@@ -122,7 +123,6 @@ void make_texture_planes(const View& view, const Vec3i world[3], const int32_t u
   out->rows = nullptr;
   out->row_mask = 0;
   out->one.y = -1;
-  out->last_y = -1;
   out->piece.y = -1;
 }
 
@@ -170,7 +170,7 @@ void exact_texture_uv(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out
 const TexturePiece& texture_piece(TexturePlanes& p, int32_t x, int32_t y) {
   TexturePiece& piece = p.piece;
   if (y == piece.y && x >= piece.x && x - piece.x < (int32_t(1) << piece.bits)) return piece;
-  const TextureSegment& sg = segment_at(p, x & ~(kTextureSegment - 1), y);
+  TextureSegment& sg = segment_at(p, x & ~(kTextureSegment - 1), y);
   const int32_t bits = sg.bits;
   piece.y = y;
   piece.bits = bits;
@@ -183,13 +183,13 @@ const TexturePiece& texture_piece(TexturePlanes& p, int32_t x, int32_t y) {
     return piece;
   }
   const int32_t start = x & ~((int32_t(1) << bits) - 1);
-  const ExactUv s = exact_in(p, sg, start, y);
+  const ExactUv s = exact_in(p, sg, start);
   piece.x = start;
   piece.uv[0] = s.uv[0];
   piece.uv[1] = s.uv[1];
   piece.step[0] = piece.step[1] = 0;
   if (bits > 0) {
-    const ExactUv e = exact_in(p, sg, start + (int32_t(1) << bits), y);
+    const ExactUv e = exact_in(p, sg, start + (int32_t(1) << bits));
     for (int k = 0; k < 2; ++k) piece.step[k] = int64_t(e.uv[k]) - s.uv[k];
   }
   return piece;

@@ -54,6 +54,10 @@ struct ExactUv {
 struct TextureSegment {
   int32_t x, y, bits;  // y = -1: none
   ExactUv ends[2];     // exact at x and x + kTextureSegment
+  // The last end of a shorter piece evaluated in it (at sample last_x of row y; -1: none): a block
+  // of a few samples ends where the next block along the row starts.
+  int32_t last_x;
+  ExactUv last;
 };
 
 // An affine piece of a row: samples [x, x + 2^bits), uv(x + j) = uv + floor(step j / 2^bits).
@@ -69,13 +73,11 @@ struct TexturePlanes {
   int32_t size_bits[2];       // log2 of the texture's width and height: the error bound is in its texels
   int32_t error_bits;         // the affine error bound allowed: 2^-error_bits texel
   // Caches, so that drawing costs about one exact division a segment: the segments decided (one,
-  // or one per row of a few rows for a renderer that draws blocks, use_segment_rows), the end of
-  // the last short piece, the piece last used.
+  // or one per row of a few rows for a renderer that draws blocks, use_segment_rows), the piece
+  // last used.
   TextureSegment* rows;       // null: `one`
   uint32_t row_mask;
   TextureSegment one;
-  int32_t last_x, last_y;
-  ExactUv last;
   TexturePiece piece;
 };
 

@@ -50,13 +50,14 @@ template <TexelFormat F>
 struct LutTexels {
   const uint8_t* texels;  // the indices (Palette8), levels (Grey4) or colours (Rgb565)
   const Pixel* lut;
-  uint32_t row_shift;     // log2 of the bytes (Grey4) or texels a row
-  LutTexels(const TextureTexels& t, const uint8_t* bytes, const Pixel* table, int width_bits)
+  uint32_t row;           // the bytes (Grey4) or texels a row: a product per texel, no shift by a
+                          // count (which x86 holds in one register, wanted by the coordinates)
+  LutTexels(const TextureTexels& t, const uint8_t* bytes, const Pixel* table)
       : texels(bytes + (F == TexelFormat::Palette8 ? 2u * t.palette_size : 0u)),
         lut(table),
-        row_shift(uint32_t(F == TexelFormat::Grey4 && width_bits > 0 ? width_bits - 1 : width_bits)) {}
+        row(F == TexelFormat::Grey4 ? (uint32_t(t.width) + 1) / 2 : t.width) {}
   __attribute__((always_inline)) Pixel operator()(int32_t x, int32_t y) const {
-    const uint32_t row = uint32_t(y) << row_shift;
+    const uint32_t row = uint32_t(y) * this->row;
     if (F == TexelFormat::Palette8) return lut[texels[row + uint32_t(x)]];
     if (F == TexelFormat::Grey4) {
       const uint32_t byte = texels[row + uint32_t(x) / 2];
@@ -76,6 +77,25 @@ inline Pixel lerp(Pixel a, Pixel b, uint32_t f) {
   const uint32_t gg = ((a & 0xFF00) * g + (b & 0xFF00) * f + 0x8000) >> 8;
   return (rb & 0xFF00FF) | (gg & 0xFF00);
 }
+
+// lerp() on colours spread to 16-bit lanes of a machine word. 64-bit words (blue at bit 0, red at
+// 16, green at 32): one multiply per colour for all three channels; each lane's sum stays below 2^16,
+// so the lanes give lerp()'s values. 32-bit words (Cortex-M, where a 64-bit product is several
+// instructions or a library call): lerp() itself on the colours.
+#if UINTPTR_MAX > 0xFFFFFFFFu
+using Spread = uint64_t;
+constexpr uint64_t kSpreadMask = 0x000000FF00FF00FFull;
+inline Spread spread(Pixel c) { return (c | (uint64_t(c) << 24)) & kSpreadMask; }
+inline Pixel unspread(Spread s) { return Pixel(s | (s >> 24)) & 0xFFFFFF; }
+inline Spread lerp_spread(Spread a, Spread b, uint32_t f) {
+  return ((a * (256 - f) + b * f + 0x0000008000800080ull) >> 8) & kSpreadMask;
+}
+#else
+using Spread = Pixel;
+inline Spread spread(Pixel c) { return c; }
+inline Pixel unspread(Spread s) { return s; }
+inline Spread lerp_spread(Spread a, Spread b, uint32_t f) { return lerp(a, b, f); }
+#endif
 
 // Bilinear filtering at uv of the texels fetch(x, y) gives; Repeat: both axes repeat (wrapping is
 // a mask).
@@ -104,6 +124,92 @@ __attribute__((always_inline)) inline Pixel bilinear(const TextureTexels& t, int
   return lerp(top, bottom, fy);
 }
 
+// Stepped coordinates a (start) and s (step) of two axes, to be shifted right by shift[0] and
+// shift[1]: the axis of the smaller shift is scaled up so that both take the larger one, returned
+// (floor(a 2^d / 2^(r + d)) = floor(a / 2^r)): one shift count in the loops (x86 shifts by a count
+// held in one register). |a|, |s| < 2^37 and d <= 10: within int64.
+inline int common_shift(int64_t a[2], int64_t s[2], const int shift[2]) {
+  const int k = shift[0] < shift[1] ? 0 : 1, d = shift[1 - k] - shift[k];
+  a[k] *= int64_t(1) << d;
+  s[k] *= int64_t(1) << d;
+  return shift[1 - k];
+}
+
+// Whether the texel indices a >> shift of samples 0 .. n - 1 (a stepped by s) all lie in
+// [0, last]: along a piece they are monotonic, so its ends decide. Wrapping leaves such indices as
+// they are, whatever the mode.
+inline bool within(int64_t a, int64_t s, int32_t n, int shift, int32_t last) {
+  const int64_t first = a >> shift, end = (a + s * (n - 1)) >> shift;
+  return first >= 0 && end >= 0 && first <= last && end <= last;
+}
+
+// How the bilinear and nearest loops wrap texel indices: a mask (both axes repeat), each axis by its
+// mode, or not at all (every index of the run inside the texture: `within`).
+enum class Wrapping { Mask, Modes, Inside };
+
+// bilinear_run's loop: a = (a_u, a_v) in units of 1/256 texel << right, stepped by s.
+template <Wrapping W, typename Fetch>
+__attribute__((always_inline)) inline void bilinear_loop(const TextureTexels& t, int right, int64_t au, int64_t av,
+                                                         int64_t su, int64_t sv, Fetch fetch, int32_t n, Pixel* out) {
+  const int32_t mu = int32_t(t.width) - 1, mv = int32_t(t.height) - 1;
+  for (int32_t i = 0; i < n; ++i, au += su, av += sv) {
+    const int64_t cu = au >> right, cv = av >> right;
+    const uint32_t fx = uint32_t(cu) & 0xFF, fy = uint32_t(cv) & 0xFF;
+    int32_t xa, xb, ya, yb;
+    if (W == Wrapping::Mask) {
+      xa = int32_t(cu >> 8) & mu;
+      xb = (xa + 1) & mu;
+      ya = int32_t(cv >> 8) & mv;
+      yb = (ya + 1) & mv;
+    } else if (W == Wrapping::Inside) {
+      xa = int32_t(cu >> 8);
+      xb = xa + 1;
+      ya = int32_t(cv >> 8);
+      yb = ya + 1;
+    } else {
+      xa = wrap(cu >> 8, t.width, t.wrap_s);
+      xb = wrap((cu >> 8) + 1, t.width, t.wrap_s);
+      ya = wrap(cv >> 8, t.height, t.wrap_t);
+      yb = wrap((cv >> 8) + 1, t.height, t.wrap_t);
+    }
+    const Spread top = lerp_spread(spread(fetch(xa, ya)), spread(fetch(xb, ya)), fx);
+    const Spread bottom = lerp_spread(spread(fetch(xa, yb)), spread(fetch(xb, yb)), fx);
+    out[i] = unspread(lerp_spread(top, bottom, fy));
+  }
+}
+
+// n samples of bilinear filtering along an affine piece, a = (a_u, a_v) stepped by s: the same
+// colours as bilinear() at (int32_t(a_u >> bits), int32_t(a_v >> bits)) (the coordinates of a piece
+// stay within int32, its ends being such). For textures of at most 256 texels a side (the
+// compiler's default limit), without bilinear()'s products per sample: in units of 1/256 texel less
+// half a texel, floor(floor(a / 2^bits) 2^size_bits / 256) - 128 is (a - 128 2^r) >> r with
+// r = bits + 8 - size_bits >= 0: the texel a >> 8, the fraction the low 8 bits. Runs whose two
+// texels a side stay inside the texture take no wrapping.
+template <bool Repeat, typename Fetch>
+__attribute__((always_inline)) inline void bilinear_run(const TextureTexels& t, const int32_t size_bits[2], int bits,
+                                                        int64_t au, int64_t av, int64_t su, int64_t sv, Fetch fetch,
+                                                        int32_t n, Pixel* out) {
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+  const bool general = size_bits[0] > 8 || size_bits[1] > 8;
+#else
+  const bool general = true;  // the firmware's code budget: only bilinear()
+#endif
+  if (general) {
+    for (int32_t i = 0; i < n; ++i, au += su, av += sv)
+      out[i] = bilinear<Repeat>(t, int32_t(au >> bits), int32_t(av >> bits), fetch);
+    return;
+  }
+  const int shifts[2] = {bits + 8 - size_bits[0], bits + 8 - size_bits[1]};
+  int64_t a[2] = {au - (int64_t(128) << shifts[0]), av - (int64_t(128) << shifts[1])}, s[2] = {su, sv};
+  const int right = common_shift(a, s, shifts);
+  if (Repeat) return bilinear_loop<Wrapping::Mask>(t, right, a[0], a[1], s[0], s[1], fetch, n, out);
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+  if (within(a[0], s[0], n, right + 8, int32_t(t.width) - 2) && within(a[1], s[1], n, right + 8, int32_t(t.height) - 2))
+    return bilinear_loop<Wrapping::Inside>(t, right, a[0], a[1], s[0], s[1], fetch, n, out);
+#endif
+  bilinear_loop<Wrapping::Modes>(t, right, a[0], a[1], s[0], s[1], fetch, n, out);
+}
+
 // The textured colour at uv decoding texels one by one: nearest, the texel x colour; bilinear, the
 // filter of the texels x colour (each neighbour modulated, as a modulated texel table gives them).
 Pixel textured_colour(const TextureTexels& t, const uint8_t* bytes, const int32_t uv[2], Pixel colour) {
@@ -124,29 +230,32 @@ template <TexelFormat F, bool Bilinear, bool Repeat>
 void piece_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& texture, const uint8_t* bytes,
                const Pixel* lut, Pixel after, int64_t j, int32_t n, Pixel* out) {
   const TextureTexels t = texture;  // a local copy: its fields stay in registers
-  const LutTexels<F> fetch(t, bytes, lut, p.size_bits[0]);
+  const LutTexels<F> fetch(t, bytes, lut);
   const int bits = pc.bits;
   int64_t au = int64_t(pc.uv[0]) * (int64_t(1) << bits) + pc.step[0] * j;
   int64_t av = int64_t(pc.uv[1]) * (int64_t(1) << bits) + pc.step[1] * j;
   const int64_t su = pc.step[0], sv = pc.step[1];
   if (Bilinear) {
-    for (int32_t i = 0; i < n; ++i, au += su, av += sv)
-      out[i] = bilinear<Repeat>(t, int32_t(au >> bits), int32_t(av >> bits), fetch);
+    bilinear_run<Repeat>(t, p.size_bits, bits, au, av, su, sv, fetch, n, out);
     return;
   }
-  const int shift_u = bits + 16 - p.size_bits[0], shift_v = bits + 16 - p.size_bits[1];
+  const int shifts[2] = {bits + 16 - p.size_bits[0], bits + 16 - p.size_bits[1]};
+  int64_t a[2] = {au, av}, s[2] = {su, sv};
+  const int shift = common_shift(a, s, shifts), shift_u = shift, shift_v = shift;
+  au = a[0], av = a[1];
+  const int64_t step_u = s[0], step_v = s[1];
   if (Repeat) {
     const int32_t mask_u = int32_t(t.width) - 1, mask_v = int32_t(t.height) - 1;
     if (after == 0xFFFFFF) {
-      for (int32_t i = 0; i < n; ++i, au += su, av += sv)
+      for (int32_t i = 0; i < n; ++i, au += step_u, av += step_v)
         out[i] = fetch(int32_t(au >> shift_u) & mask_u, int32_t(av >> shift_v) & mask_v);
       return;
     }
-    for (int32_t i = 0; i < n; ++i, au += su, av += sv)
+    for (int32_t i = 0; i < n; ++i, au += step_u, av += step_v)
       out[i] = modulate_texel(fetch(int32_t(au >> shift_u) & mask_u, int32_t(av >> shift_v) & mask_v), after);
     return;
   }
-  for (int32_t i = 0; i < n; ++i, au += su, av += sv) {
+  for (int32_t i = 0; i < n; ++i, au += step_u, av += step_v) {
     const int32_t x = wrap(au >> shift_u, t.width, t.wrap_s), y = wrap(av >> shift_v, t.height, t.wrap_t);
     out[i] = modulate_texel(fetch(x, y), after);
   }
@@ -168,55 +277,79 @@ __attribute__((always_inline)) inline int32_t wrap_as(int64_t i, int32_t size) {
 template <TexelFormat F, TextureWrap S, TextureWrap T>
 void nearest_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& texture, const uint8_t* bytes,
                  const Pixel* lut, int64_t j, int32_t n, Pixel* out) {
-  const LutTexels<F> fetch(texture, bytes, lut, p.size_bits[0]);
+  const LutTexels<F> fetch(texture, bytes, lut);
   const int32_t width = texture.width, height = texture.height;
   const int bits = pc.bits;
   int64_t au = int64_t(pc.uv[0]) * (int64_t(1) << bits) + pc.step[0] * j;
   int64_t av = int64_t(pc.uv[1]) * (int64_t(1) << bits) + pc.step[1] * j;
-  const int64_t su = pc.step[0], sv = pc.step[1];
-  const int shift_u = bits + 16 - p.size_bits[0], shift_v = bits + 16 - p.size_bits[1];
+  const int shifts[2] = {bits + 16 - p.size_bits[0], bits + 16 - p.size_bits[1]};
+  int64_t a[2] = {au, av}, s[2] = {pc.step[0], pc.step[1]};
+  const int shift = common_shift(a, s, shifts);
+  au = a[0], av = a[1];
+  const int64_t su = s[0], sv = s[1];
+  if (within(au, su, n, shift, width - 1) && within(av, sv, n, shift, height - 1)) {
+    for (int32_t i = 0; i < n; ++i, au += su, av += sv) out[i] = fetch(int32_t(au >> shift), int32_t(av >> shift));
+    return;
+  }
   for (int32_t i = 0; i < n; ++i, au += su, av += sv)
-    out[i] = fetch(wrap_as<S>(au >> shift_u, width), wrap_as<T>(av >> shift_v, height));
+    out[i] = fetch(wrap_as<S>(au >> shift, width), wrap_as<T>(av >> shift, height));
+}
+
+// A run of one affine piece (piece_run's arguments), chosen once per call of texture_rows for the
+// texture's format, filter and wraps: no tests of them per piece or per row.
+using PieceRun = void (*)(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes,
+                          const Pixel* lut, Pixel after, int64_t j, int32_t n, Pixel* out);
+
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+// nearest_run as a PieceRun (the table's colours are the output: after is white).
+template <TexelFormat F, TextureWrap S, TextureWrap T>
+void nearest_piece(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes,
+                   const Pixel* lut, Pixel, int64_t j, int32_t n, Pixel* out) {
+  nearest_run<F, S, T>(pc, p, t, bytes, lut, j, n, out);
 }
 
 template <TexelFormat F, TextureWrap S>
-__attribute__((noinline)) bool nearest_run_s(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes,
-                   const Pixel* lut, int64_t j, int32_t n, Pixel* out) {
-  switch (TextureWrap(t.wrap_t)) {
-    case TextureWrap::Repeat: nearest_run<F, S, TextureWrap::Repeat>(pc, p, t, bytes, lut, j, n, out); return true;
-    case TextureWrap::MirroredRepeat:
-      nearest_run<F, S, TextureWrap::MirroredRepeat>(pc, p, t, bytes, lut, j, n, out);
-      return true;
-    case TextureWrap::ClampToEdge:
-      nearest_run<F, S, TextureWrap::ClampToEdge>(pc, p, t, bytes, lut, j, n, out);
-      return true;
-    default: return false;
+PieceRun nearest_piece_s(uint8_t wrap_t) {
+  switch (TextureWrap(wrap_t)) {
+    case TextureWrap::Repeat: return &nearest_piece<F, S, TextureWrap::Repeat>;
+    case TextureWrap::MirroredRepeat: return &nearest_piece<F, S, TextureWrap::MirroredRepeat>;
+    case TextureWrap::ClampToEdge: return &nearest_piece<F, S, TextureWrap::ClampToEdge>;
+    default: return nullptr;
   }
 }
+#endif
 
 template <TexelFormat F>
-__attribute__((always_inline)) inline void piece_run_of(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes,
-                  const Pixel* lut, Pixel after, int64_t j, int32_t n, Pixel* out) {
+PieceRun piece_run_for(const TextureTexels& t, Pixel after) {
   const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
-  if (t.filter == uint8_t(TextureFilter::Bilinear)) {
-    if (repeat) piece_run<F, true, true>(pc, p, t, bytes, lut, after, j, n, out);
-    else piece_run<F, true, false>(pc, p, t, bytes, lut, after, j, n, out);
-  } else if (repeat) {
-    piece_run<F, false, true>(pc, p, t, bytes, lut, after, j, n, out);
-  } else {
-    bool done = false;
+  if (t.filter == uint8_t(TextureFilter::Bilinear))
+    return repeat ? &piece_run<F, true, true> : &piece_run<F, true, false>;
+  if (repeat) return &piece_run<F, false, true>;
+  PieceRun run = nullptr;
 #ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
-    // ML_TEXTURE_RUNS_GENERAL_ONLY (set by the firmware build, Makefile fw_opt): no runs specialized by
-    // wrap mode (nine instances, about 10 KB of Cortex-M code); the general run below gives the same texels.
-    if (after == 0xFFFFFF) {
-      if (t.wrap_s == uint8_t(TextureWrap::Repeat)) done = nearest_run_s<F, TextureWrap::Repeat>(pc, p, t, bytes, lut, j, n, out);
-      if (t.wrap_s == uint8_t(TextureWrap::MirroredRepeat))
-        done = nearest_run_s<F, TextureWrap::MirroredRepeat>(pc, p, t, bytes, lut, j, n, out);
-      if (t.wrap_s == uint8_t(TextureWrap::ClampToEdge))
-        done = nearest_run_s<F, TextureWrap::ClampToEdge>(pc, p, t, bytes, lut, j, n, out);
+  // ML_TEXTURE_RUNS_GENERAL_ONLY (set by the firmware build, Makefile fw_opt): no runs specialized by
+  // wrap mode (nine instances, about 10 KB of Cortex-M code); the general run gives the same texels.
+  if (after == 0xFFFFFF) {
+    switch (TextureWrap(t.wrap_s)) {
+      case TextureWrap::Repeat: run = nearest_piece_s<F, TextureWrap::Repeat>(t.wrap_t); break;
+      case TextureWrap::MirroredRepeat: run = nearest_piece_s<F, TextureWrap::MirroredRepeat>(t.wrap_t); break;
+      case TextureWrap::ClampToEdge: run = nearest_piece_s<F, TextureWrap::ClampToEdge>(t.wrap_t); break;
+      default: break;
     }
+  }
+#else
+  (void)after;
 #endif
-    if (!done) piece_run<F, false, false>(pc, p, t, bytes, lut, after, j, n, out);
+  return run ? run : &piece_run<F, false, false>;
+}
+
+// The run for texture t's format (null: no texels, format None).
+PieceRun piece_run_of(const TextureTexels& t, Pixel after) {
+  switch (TexelFormat(t.format)) {
+    case TexelFormat::Palette8: return piece_run_for<TexelFormat::Palette8>(t, after);
+    case TexelFormat::Grey4: return piece_run_for<TexelFormat::Grey4>(t, after);
+    case TexelFormat::Rgb565: return piece_run_for<TexelFormat::Rgb565>(t, after);
+    default: return nullptr;
   }
 }
 
@@ -233,9 +366,8 @@ Pixel sample_texture(const TextureTexels& t, const uint8_t* bytes, const int32_t
 namespace {
 
 template <TexelFormat F>
-Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel after, const int32_t uv[2],
-                 int width_bits) {
-  const LutTexels<F> fetch(t, bytes, lut, width_bits);
+Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel after, const int32_t uv[2]) {
+  const LutTexels<F> fetch(t, bytes, lut);
   if (t.filter == uint8_t(TextureFilter::Bilinear)) return bilinear<false>(t, uv[0], uv[1], fetch);
   const int64_t su = int64_t(uv[0]) * t.width, sv = int64_t(uv[1]) * t.height;
   return modulate_texel(fetch(wrap(su >> 16, t.width, t.wrap_s), wrap(sv >> 16, t.height, t.wrap_t)), after);
@@ -247,11 +379,10 @@ Pixel sample_texture(const TextureTexels& t, const uint8_t* bytes, const Pixel* 
                      const int32_t uv[2], Pixel colour) {
   if (t.filter == uint8_t(TextureFilter::Bilinear) && lut_colour != colour) return textured_colour(t, bytes, uv, colour);
   const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;
-  const int width_bits = bit_length(t.width) - 1;
   switch (TexelFormat(t.format)) {
-    case TexelFormat::Palette8: return sample_lut<TexelFormat::Palette8>(t, bytes, lut, after, uv, width_bits);
-    case TexelFormat::Grey4: return sample_lut<TexelFormat::Grey4>(t, bytes, lut, after, uv, width_bits);
-    case TexelFormat::Rgb565: return sample_lut<TexelFormat::Rgb565>(t, bytes, lut, after, uv, width_bits);
+    case TexelFormat::Palette8: return sample_lut<TexelFormat::Palette8>(t, bytes, lut, after, uv);
+    case TexelFormat::Grey4: return sample_lut<TexelFormat::Grey4>(t, bytes, lut, after, uv);
+    case TexelFormat::Rgb565: return sample_lut<TexelFormat::Rgb565>(t, bytes, lut, after, uv);
     default: return colour;
   }
 }
@@ -278,32 +409,34 @@ void make_texel_lut(const TextureTexels& t, const uint8_t* bytes, Pixel colour, 
   }
 }
 
-void texture_row(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
-                 Pixel colour, int32_t x, int32_t y, int32_t n, Pixel* out) {
+void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
+                  Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out) {
   const bool bilinear = t.filter == uint8_t(TextureFilter::Bilinear);
   if (!lut || (bilinear && lut_colour != colour)) {
-    for (int32_t i = 0; i < n; ++i) {
-      int32_t uv[2];
-      texture_uv(p, x + i, y, uv);
-      out[i] = textured_colour(t, bytes, uv, colour);
-    }
+    for (int32_t r = 0; r < rows; ++r)
+      for (int32_t i = 0; i < n; ++i) {
+        int32_t uv[2];
+        texture_uv(p, x + i, y + r, uv);
+        *out++ = textured_colour(t, bytes, uv, colour);
+      }
     return;
   }
   const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;  // the product left per sample
-  while (n > 0) {
-    const TexturePiece& pc = texture_piece(p, x, y);
-    const int64_t j = x - pc.x;
-    const int32_t m = min_of(n, int32_t((int64_t(1) << pc.bits) - j));
-    switch (TexelFormat(t.format)) {
-      case TexelFormat::Palette8: piece_run_of<TexelFormat::Palette8>(pc, p, t, bytes, lut, after, j, m, out); break;
-      case TexelFormat::Grey4: piece_run_of<TexelFormat::Grey4>(pc, p, t, bytes, lut, after, j, m, out); break;
-      case TexelFormat::Rgb565: piece_run_of<TexelFormat::Rgb565>(pc, p, t, bytes, lut, after, j, m, out); break;
-      default: for (int32_t i = 0; i < m; ++i) out[i] = colour;
-    }
-    x += m;
-    n -= m;
-    out += m;
+  const PieceRun run = piece_run_of(t, after);
+  if (!run) {
+    for (int32_t i = 0; i < n * rows; ++i) out[i] = colour;
+    return;
   }
+  for (int32_t r = 0; r < rows; ++r)
+    for (int32_t left = n, xx = x; left > 0;) {
+      const TexturePiece& pc = texture_piece(p, xx, y + r);
+      const int64_t j = xx - pc.x;
+      const int32_t m = min_of(left, int32_t((int64_t(1) << pc.bits) - j));
+      run(pc, p, t, bytes, lut, after, j, m, out);
+      xx += m;
+      left -= m;
+      out += m;
+    }
 }
 
 }  // namespace ml

@@ -48,7 +48,13 @@ void make_texel_lut(const TextureTexels& texture, const uint8_t* bytes, Pixel co
 // sample_texture(texture, bytes, texture_uv(...), colour) sample by sample. lut: a make_texel_lut
 // table of this texture for colour `lut_colour`, or null (texels decoded one by one); lut_colour is
 // either `colour` (no product per sample) or, for nearest filtering, white.
-void texture_row(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
-                 Pixel lut_colour, Pixel colour, int32_t x, int32_t y, int32_t n, Pixel* out);
+// texture_rows: `rows` such rows (y, y + 1, ...) of n samples each, one after another in out (the
+// format, filter and wraps looked at once for them all: the tiler's blocks).
+void texture_rows(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
+                  Pixel lut_colour, Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out);
+inline void texture_row(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
+                        Pixel lut_colour, Pixel colour, int32_t x, int32_t y, int32_t n, Pixel* out) {
+  texture_rows(planes, texture, bytes, lut, lut_colour, colour, x, y, n, 1, out);
+}
 
 }  // namespace ml

@@ -5,6 +5,7 @@
 // texture's triangles in their material colour and counts the fallback (Stats::texture_fallbacks).
 #pragma once
 #include <stdint.h>
+#include <string.h>
 
 #include "scene/scene.h"
 
@@ -40,7 +41,7 @@ class BlobTextureSource : public TextureSource {
     const TextureTexels& t = scene_->texture_texels[texture];
     if (bytes != t.bytes) return false;  // read_scene keeps [offset, offset + bytes) inside Texels
     const uint8_t* src = scene_->texels + t.offset;
-    for (uint32_t i = 0; i < bytes; ++i) dst[i] = src[i];
+    memcpy(dst, src, bytes);
     return true;
   }
   const uint8_t* in_place(uint32_t texture) const override {

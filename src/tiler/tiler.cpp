@@ -225,8 +225,8 @@ class BandWriter : public CoverageWriter {
     return texture_planes_;
   }
 
-  // A block of a textured piece: flat colours row by row (texture/sampler.h texture_row), smooth
-  // ones pixel by pixel.
+  // A block of a textured piece: flat colours a few rows at a time (texture/sampler.h texture_rows),
+  // smooth ones pixel by pixel.
   void write_textured(int x, int y, int w, int h) {
     stats_->shading_calls += uint64_t(w) * uint64_t(h);
     const uint8_t* bytes = colors_.smooth ? nullptr : pager_->get(texture_);
@@ -242,10 +242,20 @@ class BandWriter : public CoverageWriter {
     const TextureTexels& t = scene_->texture_texels[texture_];
     Pixel lut_colour;
     const Pixel* lut = pager_->texel_lut(texture_, colors_.flat, bytes, uint32_t(w) * uint32_t(h), &lut_colour);
+    TexturePlanes& planes = texture_planes();
+    if (w <= kRowPixels) {  // as many whole rows at once as the row buffer holds
+      const int per = kRowPixels / w;
+      for (int yy = y; yy < y + h; yy += per) {
+        const int rows = min_of(per, y + h - yy);
+        texture_rows(planes, t, bytes, lut, lut_colour, colors_.flat, x, yy, w, rows, row_);
+        for (int r = 0; r < rows; ++r) out_.put_row(x, yy + r, row_ + r * w, w);
+      }
+      return;
+    }
     for (int yy = y; yy < y + h; ++yy)
       for (int x0 = x; x0 < x + w; x0 += kRowPixels) {
         const int n = min_of(kRowPixels, x + w - x0);
-        texture_row(texture_planes(), t, bytes, lut, lut_colour, colors_.flat, x0, yy, n, row_);
+        texture_row(planes, t, bytes, lut, lut_colour, colors_.flat, x0, yy, n, row_);
         out_.put_row(x0, yy, row_, n);
       }
   }
@@ -605,22 +615,31 @@ class TexturePlan : public TextureNextUse {
   uint32_t band_ = 0, band_rows_ = 1, top_ = 0, end_ = 0, k_ = 0;
 };
 
-// The band plan, made when the arena has room for one byte a BSP piece (tiler_plan_bytes): the bands
-// each piece can reach, worked out on its first visit in any band (triangle_row_span, exactly the
-// per-band test) together with its facing. Later bands then skip the piece from one byte, without
-// reading its vertices, and never repeat its facing test; pieces the walk never reaches cost nothing.
-// A byte holds the first and last band group (4 bits each; a group is one band when there are at most
-// 16, else ceil(bands / 16) bands, and the per-band test still runs); first > last: no band.
+// The band plan, made when the arena has room for one byte a BSP piece and two bits a triangle
+// (tiler_plan_bytes): the bands each piece can reach, worked out on its first visit in any band
+// (triangle_row_span, exactly the per-band test) together with its facing. Later bands then skip the
+// piece from one byte, without reading its vertices, and never repeat its facing test; pieces the walk
+// never reaches cost nothing. A byte holds the first and last band group (4 bits each; a group is one
+// band when there are at most 16, else ceil(bands / 16) bands, and the per-band test still runs);
+// first > last: no band. A triangle's facing is kept too, from the first of its pieces the walk
+// reaches: the other pieces of a triangle the BSP split take it from two bits, without the test or
+// the triangle's vertices (2CylinderEngine at the bench camera: 74,352 of 128,119 first visits).
 class BandPlan {
  public:
   static constexpr uint8_t kUnknown = 0xF1, kNoBand = 0xF0, kEveryBand = 0x0F;
+  static constexpr int kFacingUnknown = -2;  // facing(): no piece of the triangle tested yet
 
-  void init(uint8_t* bytes, uint32_t count, int bands) {
+  static size_t bytes(uint32_t pieces, uint32_t triangles) { return size_t(pieces) + (size_t(triangles) + 3) / 4; }
+  // bytes: one a piece, then (facing_bytes) two bits a triangle, or none (the facing is then not kept).
+  void init(uint8_t* bytes, uint32_t pieces, uint8_t* facing_bytes, uint32_t triangles, int bands) {
     bytes_ = bytes;
-    for (uint32_t i = 0; i < count; ++i) bytes_[i] = kUnknown;
+    for (uint32_t i = 0; i < pieces; ++i) bytes_[i] = kUnknown;
+    facing_ = facing_bytes;  // facing + 2 in two bits a triangle, 0 = unknown
+    for (uint32_t i = 0; facing_ && i < (triangles + 3) / 4; ++i) facing_[i] = 0;
     group_ = (bands + 15) / 16;
   }
   bool active() const { return bytes_ != nullptr; }
+  bool keeps_facing() const { return facing_ != nullptr; }
   // Whether a byte's bands are exactly the per-band test's (no test needed after it).
   bool exact() const { return group_ == 1; }
   uint8_t& at(uint32_t piece) { return bytes_[piece]; }
@@ -631,9 +650,13 @@ class BandPlan {
     const int g = band / group_;
     return (b >> 4) <= g && g <= (b & 15);
   }
+  // triangle_facing of triangle t (-1, 0 or 1), or kFacingUnknown.
+  int facing(uint32_t t) const { return int((facing_[t >> 2] >> ((t & 3) * 2)) & 3) - 2; }
+  void set_facing(uint32_t t, int facing) { facing_[t >> 2] = uint8_t(facing_[t >> 2] | (facing + 2) << ((t & 3) * 2)); }
 
  private:
   uint8_t* bytes_ = nullptr;
+  uint8_t* facing_ = nullptr;
   int group_ = 1;
 };
 
@@ -736,8 +759,15 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
   if (out_.band_count() > 1) {  // the plan, when the bands' pyramid still fits beside it
     PyramidLayout layout;
     band_layout(camera_.width, tiled_samples(options_, 0, out_.band_rows(), camera_.height), band_.factor, &layout);
-    if (arena.size() - arena.used() >= Pyramid::arena_bytes(layout) + tiler_plan_bytes(scene_))
-      plan_.init(arena.allocate_array<uint8_t>(tiler_plan_bytes(scene_)), scene_.bsp_piece_count, out_.band_count());
+    // The triangles' facing bits only when there is room for them as well (the microbit has room for
+    // the pieces' bytes alone).
+    const size_t free = arena.size() - arena.used(), pyramid = Pyramid::arena_bytes(layout);
+    if (free >= pyramid + scene_.bsp_piece_count) {
+      uint8_t* pieces = arena.allocate_array<uint8_t>(scene_.bsp_piece_count);
+      const bool facing = free >= pyramid + tiler_plan_bytes(scene_);
+      uint8_t* facing_bytes = facing ? arena.allocate_array<uint8_t>(tiler_plan_bytes(scene_) - scene_.bsp_piece_count) : nullptr;
+      plan_.init(pieces, scene_.bsp_piece_count, facing_bytes, scene_.triangle_count, out_.band_count());
+    }
   }
   for (int band = 0; band < out_.band_count(); ++band) {
     s = render_band(band, arena);
@@ -921,20 +951,33 @@ bool TilerFrame::draw_piece(uint32_t index) {
   const Triangle tri = triangle_at(scene_, piece.triangle);
   const Material& mat = scene_.materials[scene_.batches[tri.batch].material];
   // Facing is decided on the whole triangle, exactly as the scanline renderer decides it, and
-  // before projecting, so back faces cost almost nothing. A planned piece faces the eye unless its
-  // material is double-sided (then the side picks its shading).
+  // before projecting, so back faces cost almost nothing; with the plan once a triangle. The
+  // triangle's vertices are read only when needed: for the test, for a whole piece, and for a split
+  // piece whose box passes the visibility test.
   Vec3i whole_world[3];
-  triangle_world(scene_, piece.triangle, whole_world);
-  const int facing = known && !mat.double_sided ? 1 : triangle_facing(view_, whole_world);
+  bool have_whole = false;
+  auto whole = [&]() -> const Vec3i* {
+    if (!have_whole) triangle_world(scene_, piece.triangle, whole_world);
+    have_whole = true;
+    return whole_world;
+  };
+  // A planned piece faces the eye unless its material is double-sided (then the side picks its
+  // shading); only a triangle the BSP split has other pieces to share its facing with.
+  const bool split = is_split_piece(piece, tri);
+  const bool shared = split && plan_.keeps_facing();
+  int facing = known && !mat.double_sided ? 1 : shared ? plan_.facing(piece.triangle) : BandPlan::kFacingUnknown;
+  if (facing == BandPlan::kFacingUnknown) {
+    facing = triangle_facing(view_, whole());
+    if (shared) plan_.set_facing(piece.triangle, facing);
+  }
   if (facing == 0 || (facing < 0 && !mat.double_sided)) {
     if (planned) *planned = BandPlan::kNoBand;
     return true;
   }
-  const bool split = is_split_piece(piece, tri);
   Vec3i split_world[3];
   if (split)
     for (int i = 0; i < 3; ++i) split_world[i] = vertex_world(scene_, tri.batch, piece.v[i]);
-  const Vec3i* world = split ? split_world : whole_world;
+  const Vec3i* world = split ? split_world : whole();
   if (planned && !known) {
     *planned = plan_bands(world);
     if (!plan_.has(*planned, band_index_)) return true;
@@ -956,12 +999,12 @@ bool TilerFrame::draw_piece(uint32_t index) {
     ConvexPoly box;  // the band's part of the box alone (no edges copied)
     if (!band_.clip_box(poly, &box)) continue;
     if (n == 1 && split && tiler_.box_visible(box)) {
-      ScreenTriangle whole[kMaxClipTriangles];
-      if (project_triangle(view_, whole_world, facing, whole, false) == 1) {
+      ScreenTriangle whole_parts[kMaxClipTriangles];
+      if (project_triangle(view_, whole(), facing, whole_parts, false) == 1) {
         TriangleSetup whole_setup;
-        setup_triangle(whole[0], camera_.width, camera_.height, &whole_setup);
+        setup_triangle(whole_parts[0], camera_.width, camera_.height, &whole_setup);
         ConvexPoly whole_poly;
-        poly_in_samples(whole[0], whole_setup, f, camera_.width, camera_.height, &whole_poly, jittered(options_));
+        poly_in_samples(whole_parts[0], whole_setup, f, camera_.width, camera_.height, &whole_poly, jittered(options_));
         clip_to_triangle(view_, parts[0], whole_poly, f, camera_.width * f, camera_.height * f, &poly);
       }
     }
@@ -976,7 +1019,7 @@ bool TilerFrame::draw_piece(uint32_t index) {
 
 }  // namespace
 
-size_t tiler_plan_bytes(const Scene& scene) { return scene.bsp_piece_count; }
+size_t tiler_plan_bytes(const Scene& scene) { return BandPlan::bytes(scene.bsp_piece_count, scene.triangle_count); }
 
 size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
   PyramidLayout layout;

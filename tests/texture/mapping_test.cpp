@@ -148,4 +148,46 @@ TEST(TextureMapping, RowsGiveTheColoursSampleBySample) {
   EXPECT_GT(compared, 100000u);
 }
 
+// texture_rows as the tiler calls it: blocks of a few rows (segments kept per row), sample by sample
+// the same colours, for every format, wrap mode and filter, with coordinates across many texture
+// periods and within one (runs that need no wrapping).
+TEST(TextureMapping, BlocksOfRowsGiveTheColoursSampleBySample) {
+  std::mt19937 rng(11);
+  const ml::TexelFormat formats[] = {ml::TexelFormat::Rgb565, ml::TexelFormat::Palette8, ml::TexelFormat::Grey4};
+  size_t compared = 0;
+  for (int n = 0; n < 90; ++n) {
+    Case c = random_case(rng);
+    if (n % 2)
+      for (auto& uv : c.uv) uv[0] = int32_t(rng() % 65536), uv[1] = int32_t(rng() % 65536);
+    const RandomTexture tex(rng, formats[n % 3], c.width, c.height);
+    const ml::Pixel colour = n % 4 == 0 ? 0xFFFFFF : ml::Pixel(rng() & 0xFFFFFF);
+    const int error_bits = tex.t.filter == uint8_t(ml::TextureFilter::Bilinear) ? ml::kTextureAffineErrorBitsBilinear
+                                                                                  : ml::kTextureAffineErrorBitsNearest;
+    ml::TexturePlanes blocks, one;
+    ml::make_texture_planes(c.view, c.world, c.uv, 1, ml::kSubpixelHalf, ml::kSubpixelHalf, c.width, c.height,
+                            error_bits, &blocks);
+    one = blocks;
+    std::vector<ml::TextureSegment> segment_rows(16);
+    ml::use_segment_rows(&blocks, segment_rows.data(), 4);
+    std::vector<ml::Pixel> lut(ml::kTexelLutEntries);
+    ml::make_texel_lut(tex.t, tex.bytes.data(), colour, lut.data());
+    for (int k = 0; k < 40; ++k) {
+      const int32_t w = 1 + int32_t(rng() % 16), h = 1 + int32_t(rng() % 8);
+      const int32_t x = int32_t(rng() % uint32_t(320 - w)), y = int32_t(rng() % uint32_t(240 - h));
+      std::vector<ml::Pixel> got(size_t(w * h), 0);
+      ml::texture_rows(blocks, tex.t, tex.bytes.data(), lut.data(), colour, colour, x, y, w, h, got.data());
+      for (int32_t r = 0; r < h; ++r)
+        for (int32_t i = 0; i < w; ++i) {
+          int32_t uv[2];
+          ml::texture_uv(one, x + i, y + r, uv);
+          ASSERT_EQ(got[size_t(r * w + i)], ml::sample_texture(tex.t, tex.bytes.data(), uv, colour))
+              << "case " << n << " sample " << x + i << "," << y + r << " format " << int(tex.t.format)
+              << " filter " << int(tex.t.filter) << " wraps " << int(tex.t.wrap_s) << int(tex.t.wrap_t);
+          ++compared;
+        }
+    }
+  }
+  EXPECT_GT(compared, 100000u);
+}
+
 }  // namespace
