@@ -45,6 +45,10 @@ class BandOutput {
   void fill(int x, int y, int w, int h, Pixel value) {
     packer_.fill(current_, stride_, x, y - top_, y, w, h, value);
   }
+  // The set bits of an 8x8 mask at (x, y) (PixelPacker::fill_mask).
+  void fill_mask(uint64_t mask, int x, int y, Pixel value) {
+    packer_.fill_mask(current_, stride_, x, y - top_, y, mask, value);
+  }
   // Hands the finished band to the sink.
   Status finish_band();
   // Waits until no buffer is lent, then ends the frame.

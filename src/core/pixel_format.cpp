@@ -253,7 +253,42 @@ void fill_bytes(uint8_t* band, uint32_t stride, int x, int row, int w, int h, co
   }
 }
 
+// The set bits of an 8x8 mask, one stored value in a format of whole bytes a pixel: a full row is
+// eight stores, any other row one store a set bit (tiled blocks are mostly full or ragged rows).
+template <int kBytes>
+void fill_mask_bytes(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, const uint8_t* pattern) {
+  uint8_t* line = band + uint32_t(row) * stride + uint32_t(x) * kBytes;
+  for (; mask != 0; mask >>= 8, line += stride) {
+    uint32_t bits = uint32_t(mask) & 0xFFu;
+    if (bits == 0xFFu) {
+      for (int i = 0; i < 8; ++i) memcpy(line + i * kBytes, pattern, kBytes);
+      continue;
+    }
+    for (; bits != 0; bits &= bits - 1) memcpy(line + __builtin_ctz(bits) * kBytes, pattern, kBytes);
+  }
+}
+
 }  // namespace
+
+void PixelPacker::fill_mask(uint8_t* band, uint32_t stride, int x, int row, int frame_y, uint64_t mask,
+                            Pixel value) const {
+  const int bits = format_bits_per_pixel(format_);
+  if (!dither_ && bits >= 8) {
+    uint8_t pattern[4];
+    store_aligned(format_, pattern, quantize_one(format_, value, false, 0));
+    if (bits == 8) fill_mask_bytes<1>(band, stride, x, row, mask, pattern);
+    else if (bits == 16) fill_mask_bytes<2>(band, stride, x, row, mask, pattern);
+    else fill_mask_bytes<4>(band, stride, x, row, mask, pattern);
+    return;
+  }
+  // Dithered or packed formats: each row's runs as blocks (the value depends on the position).
+  for (int r = 0; mask != 0; ++r, mask >>= 8)
+    for (uint32_t b = uint32_t(mask) & 0xFFu; b != 0;) {
+      const int start = __builtin_ctz(b), len = __builtin_ctz(~(b >> start));
+      fill(band, stride, x + start, row + r, frame_y + r, len, 1, value);
+      b &= ~(((1u << len) - 1u) << start);
+    }
+}
 
 void PixelPacker::fill(uint8_t* band, uint32_t stride, int x, int row, int frame_y, int w, int h,
                        Pixel value) const {

@@ -53,6 +53,9 @@ class PixelPacker {
   void put_row(uint8_t* band, uint32_t stride, int x, int row, int frame_y, const Pixel* pixels, int n) const;
   // A w x h block of one colour.
   void fill(uint8_t* band, uint32_t stride, int x, int row, int frame_y, int w, int h, Pixel value) const;
+  // The set bits of an 8x8 mask (bit = r * 8 + c: pixel (x + c, row + r)) in one colour: the same
+  // stored values as fill() gives those pixels, the value quantized once for the whole block.
+  void fill_mask(uint8_t* band, uint32_t stride, int x, int row, int frame_y, uint64_t mask, Pixel value) const;
 
  private:
   PixelFormat format_ = PixelFormat::Xrgb8888;

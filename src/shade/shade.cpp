@@ -52,7 +52,7 @@ Pixel modulate(const uint8_t base[4], int32_t intensity_q8) {
 }
 
 void shade_triangle(const Scene& scene, const Light& light, ShadingMode mode, uint32_t triangle_id,
-                    bool front_facing, TriangleColors* out) {
+                    bool front_facing, TriangleColors* out, const Vec3i* world) {
   const Triangle tri = triangle_at(scene, triangle_id);
   const Batch& batch = scene.batches[tri.batch];
   const Material& material = scene.materials[batch.material];
@@ -62,8 +62,11 @@ void shade_triangle(const Scene& scene, const Light& light, ShadingMode mode, ui
   } else if (mode == ShadingMode::Unlit || mode == ShadingMode::Lines) {
     out->flat = rgb(material.base_color[0], material.base_color[1], material.base_color[2]);
   } else {
-    Vec3i world[3];
-    triangle_world(scene, triangle_id, world);
+    Vec3i read[3];
+    if (!world) {
+      triangle_world(scene, triangle_id, read);
+      world = read;
+    }
     Vec3i normal = face_normal(world);
     if (!front_facing) normal = negate(normal);  // a double-sided triangle seen from behind
     out->flat = modulate(material.base_color, lambert_q8(light, normal));

@@ -37,8 +37,9 @@ struct TriangleColors {
   Pixel vertex[3];
   bool smooth;
 };
+// world: the triangle's world vertices (triangle_world) when the caller has them, else read here.
 void shade_triangle(const Scene& scene, const Light& light, ShadingMode mode, uint32_t triangle_id,
-                    bool front_facing, TriangleColors* out);
+                    bool front_facing, TriangleColors* out, const Vec3i* world = nullptr);
 
 // A quantity linear in screen space, evaluated at pixel centres:
 //   value(px, py) = (origin + step_x * px + step_y * py) >> kPlaneBits

@@ -51,70 +51,90 @@ bool emit_mask(uint64_t m, int x0, int y0, int q, CoverageWriter& writer) {
   return true;
 }
 
-// A small polygon's coverage, row by row (HierTiler::tile_small). For one edge crossing the box,
-// the samples of box row j inside it are the columns col with E_j + A col >= 0, E_j = E_0 + B j
-// (E at the row's first sample centre, A and B the steps between samples): from -floor(E_j / A) on
-// when A > 0, up to floor(E_j / -A) when A < 0. The floor is stepped exactly from row to row (a
+// A small polygon's coverage, row by row (HierTiler::tile_small, HierTiler::block_samples). For one
+// edge crossing the box, the samples of box row j inside it are the columns col with E_j + A col >= 0,
+// E_j = E_0 + B j (E at the row's first sample centre, A and B the steps between samples): from
+// -floor(E_j / A) on when A > 0 (the edge bounds the row from the left), up to floor(E_j / -A) when
+// A < 0 (from the right); with A = 0 the whole row or none. A row's samples are then one span, the
+// largest left bound to the smallest right bound. Each floor is stepped exactly from row to row (a
 // DDA: two 32-bit divisions an edge, then adds), so each sample gets exactly E >= 0 at its centre,
 // the descent's coverage. The caller keeps every edge value and both steps below 2^30 (rows_fit), so
 // a row's value and remainder sums stay below 2^31.
-class EdgeRows {
+class RowSpans {
  public:
-  void start(int32_t e0, int32_t step_col, int32_t step_row) {
-    lower_ = step_col > 0;
-    d_ = step_col < 0 ? -step_col : step_col;
-    if (d_ == 0) {
-      e_ = e0;
-      step_e_ = step_row;
+  void clear() { lower_n_ = upper_n_ = level_n_ = 0; }
+  void add(int32_t e0, int32_t step_col, int32_t step_row) {
+    if (step_col == 0) {
+      level_[level_n_++] = Level{e0, step_row};
       return;
     }
-    split(e0, &q_, &r_);
-    split(step_row, &step_q_, &step_r_);
+    Bound& b = step_col > 0 ? lower_[lower_n_++] : upper_[upper_n_++];
+    b.d = step_col < 0 ? -step_col : step_col;
+    split(e0, b.d, &b.q, &b.r);
+    split(step_row, b.d, &b.step_q, &b.step_r);
   }
-  // Inside columns of the current row, as bits of a row of `all` columns.
-  uint32_t mask(uint32_t all) const {
-    if (d_ == 0) return e_ >= 0 ? all : 0;
-    if (lower_) {
-      const int32_t first = -q_;
-      return first <= 0 ? all : first >= 32 ? 0 : all & (~uint32_t(0) << first);
+  // The current row's inside columns, [first, last] within [0, last_column] (none when first > last),
+  // then on to the next row.
+  void row(int32_t last_column, int32_t* first, int32_t* last) {
+    int32_t lo = 0, hi = last_column;
+    for (int i = 0; i < lower_n_; ++i) {
+      lo = max_of(lo, -lower_[i].q);
+      lower_[i].next_row();
     }
-    return q_ < 0 ? 0 : q_ >= 31 ? all : all & ((uint32_t(2) << q_) - 1);
-  }
-  void next_row() {
-    if (d_ == 0) {
-      e_ += step_e_;
-      return;
+    for (int i = 0; i < upper_n_; ++i) {
+      hi = min_of(hi, upper_[i].q);
+      upper_[i].next_row();
     }
-    q_ += step_q_;
-    r_ += step_r_;
-    if (r_ >= d_) {
-      r_ -= d_;
-      ++q_;
+    for (int i = 0; i < level_n_; ++i) {
+      if (level_[i].e < 0) hi = -1;
+      level_[i].e += level_[i].step;
     }
+    *first = lo;
+    *last = hi;
   }
 
  private:
+  // floor(E_j / d) = q with remainder r (0 <= r < d), and its steps from row to row.
+  struct Bound {
+    int32_t d, q, r, step_q, step_r;
+    void next_row() {
+      q += step_q;
+      r += step_r;
+      if (r >= d) {
+        r -= d;
+        ++q;
+      }
+    }
+  };
+  struct Level {
+    int32_t e, step;
+  };
   // n = q d + r with 0 <= r < d.
-  void split(int32_t n, int32_t* q, int32_t* r) const {
-    *q = n / d_;
-    *r = n % d_;
+  static void split(int32_t n, int32_t d, int32_t* q, int32_t* r) {
+    *q = n / d;
+    *r = n % d;
     if (*r < 0) {
       --*q;
-      *r += d_;
+      *r += d;
     }
   }
-  // Set by start() (no initializers: an array of steppers would be cleared by a memset each call).
-  bool lower_;
-  int32_t d_, q_, r_, step_q_, step_r_;
-  int32_t e_, step_e_;
+  // No initializers: the arrays would be cleared by a memset each call.
+  int lower_n_, upper_n_, level_n_;
+  Bound lower_[kMaxPolyEdges], upper_[kMaxPolyEdges];
+  Level level_[kMaxPolyEdges];
 };
+
+// Bits first..last of a row (0 <= first <= last <= 31).
+inline uint32_t span_bits(int32_t first, int32_t last) {
+  return ((uint32_t(2) << last) - 1) & (~uint32_t(0) << first);
+}
 
 // Boxes up to this many samples a side take the row-by-row path: they touch at most 5 x 5 finest
 // blocks, where a descent would triage at least two levels of masks (measured best of 16, 24, 32).
 constexpr int kSmallBoxSamples = 32;
 constexpr int kSmallBoxBlocks = kSmallBoxSamples / 8 + 1;
 
-// Whether EdgeRows can step an edge whose values over the samples lie in [lo, hi] and whose steps
+// Whether RowSpans can step an edge whose values over the samples lie in [lo, hi] and whose steps
 // between samples are a (columns) and b (rows): everything below 2^30.
 inline bool rows_fit(int64_t lo, int64_t hi, int64_t a, int64_t b) {
   constexpr int64_t kLimit = int64_t(1) << 30;
@@ -123,16 +143,16 @@ inline bool rows_fit(int64_t lo, int64_t hi, int64_t a, int64_t b) {
 
 enum class SmallSetup : uint8_t { Ready, Outside, TooLarge };
 
-// The row steppers of the edges that cross the box [x0, x1] x [y0, y1] (samples of `pitch`
+// The row spans of the edges that cross the box [x0, x1] x [y0, y1] (samples of `pitch`
 // subpixels); edges with the whole box inside are dropped.
-SmallSetup small_edges(const ConvexPoly& poly, int32_t pitch, EdgeRows* rows, int* count) {
+SmallSetup small_edges(const ConvexPoly& poly, int32_t pitch, RowSpans* rows) {
   // Sample centres and box sides below 2^21 subpixels (the screen), so with |a|, |b| < 2^23 (checked;
   // src/view keeps them there) every product is a 32-by-32-bit one: one instruction on a Cortex-M3.
   constexpr int32_t kStepLimit = int32_t(1) << 23;
   const int32_t half = pitch / 2;
   const int32_t x0 = poly.min_x * pitch + half, y0 = poly.min_y * pitch + half;
   const int32_t w = (poly.max_x - poly.min_x) * pitch, h = (poly.max_y - poly.min_y) * pitch;
-  *count = 0;
+  rows->clear();
   for (int i = 0; i < poly.n; ++i) {
     const EdgeFunction& e = poly.edge[i];
     if (abs64(e.a) >= kStepLimit || abs64(e.b) >= kStepLimit) return SmallSetup::TooLarge;
@@ -145,7 +165,7 @@ SmallSetup small_edges(const ConvexPoly& poly, int32_t pitch, EdgeRows* rows, in
     if (hi < 0) return SmallSetup::Outside;
     if (lo >= 0) continue;
     if (!rows_fit(lo, hi, int64_t(a) * pitch, int64_t(b) * pitch)) return SmallSetup::TooLarge;
-    rows[(*count)++].start(int32_t(k0), a * pitch, b * pitch);
+    rows->add(int32_t(k0), a * pitch, b * pitch);
   }
   return SmallSetup::Ready;
 }
@@ -294,11 +314,11 @@ void HierTiler::add_work(int level, int mx, int my) {
 }
 
 // The samples of a finest cell (edge values at its top-left corner in `in`) inside every edge, row by
-// row (EdgeRows), exactly. False when an edge's values are too large for 32-bit rows.
+// row (RowSpans), exactly. False when an edge's values are too large for 32-bit rows.
 bool HierTiler::block_samples(const Edges& in, uint64_t* out) const {
   const int64_t half = pitch_ / 2, span = int64_t(pitch_) * 7;  // first to last sample centre
-  EdgeRows rows[kMaxPolyEdges];
-  int n = 0;
+  RowSpans rows;
+  rows.clear();
   *out = 0;
   for (int i = 0; i < in.n; ++i) {
     const int64_t k0 = in.e[i] + (in.a[i] + in.b[i]) * half;
@@ -307,15 +327,12 @@ bool HierTiler::block_samples(const Edges& in, uint64_t* out) const {
     if (hi < 0) return true;
     if (lo >= 0) continue;
     if (!rows_fit(lo, hi, in.a[i] * pitch_, in.b[i] * pitch_)) return false;
-    rows[n++].start(int32_t(k0), int32_t(in.a[i] * pitch_), int32_t(in.b[i] * pitch_));
+    rows.add(int32_t(k0), int32_t(in.a[i] * pitch_), int32_t(in.b[i] * pitch_));
   }
   for (int r = 0; r < 8; ++r) {
-    uint32_t row = 0xFF;
-    for (int i = 0; i < n; ++i) {
-      row &= rows[i].mask(0xFF);
-      rows[i].next_row();
-    }
-    *out |= uint64_t(row) << (8 * r);
+    int32_t first, last;
+    rows.row(7, &first, &last);
+    if (first <= last) *out |= uint64_t(span_bits(first, last)) << (8 * r);
   }
   return true;
 }
@@ -403,16 +420,22 @@ bool HierTiler::query_cell(int level, int mx, int my, const Edges& in) const {
   return false;
 }
 
+// The bits of an 8x8 mask in columns c0..c1 and rows r0..r1 (of a box given relative to the mask:
+// clipped to 0..7 here; 0 when the box misses the mask).
+inline uint64_t box_mask(int c0, int c1, int r0, int r1) {
+  c0 = max_of(0, c0);
+  c1 = min_of(7, c1);
+  r0 = max_of(0, r0);
+  r1 = min_of(7, r1);
+  if (c0 > c1 || r0 > r1) return 0;
+  const uint32_t row = (0xFFu >> (7 - c1)) & (0xFFu << c0);
+  return (uint64_t(row) * 0x0101010101010101u) & (kAll >> (8 * (7 - r1))) & (kAll << (8 * r0));  // rows r0..r1
+}
+
 // Subcells (samples at the finest level) of a level-`level` cell that the polygon's box overlaps.
 uint64_t HierTiler::box_bits(int level, int mx, int my) const {
   const int sub = pyr_->layout.shift(level) - 3;
-  const int c0 = max_of(0, (bx0_ >> sub) - mx * 8), c1 = min_of(7, (bx1_ >> sub) - mx * 8);
-  const int r0 = max_of(0, (by0_ >> sub) - my * 8), r1 = min_of(7, (by1_ >> sub) - my * 8);
-  if (c0 > c1 || r0 > r1) return 0;
-  const uint64_t row = ((uint64_t(2) << c1) - 1) & ~((uint64_t(1) << c0) - 1);
-  const uint64_t below_r1 = r1 == 7 ? kAll : (uint64_t(1) << (8 * r1 + 8)) - 1;
-  const uint64_t below_r0 = (uint64_t(1) << (8 * r0)) - 1;
-  return row * 0x0101010101010101u & below_r1 & ~below_r0;  // the row repeated on rows r0..r1
+  return box_mask((bx0_ >> sub) - mx * 8, (bx1_ >> sub) - mx * 8, (by0_ >> sub) - my * 8, (by1_ >> sub) - my * 8);
 }
 
 // Whether the polygon's box holds an uncovered sample inside this (not covered) cell: a descent
@@ -492,14 +515,11 @@ bool HierTiler::covered_above(int level, int mx, int my) const {
 // The samples of finest block (bx, by) inside the polygon's sample box (box_bits at the finest level,
 // without the level arithmetic).
 inline uint64_t block_box(const ConvexPoly& poly, int bx, int by) {
-  const int c0 = max_of(0, poly.min_x - bx * 8), c1 = min_of(7, poly.max_x - bx * 8);
-  const int r0 = max_of(0, poly.min_y - by * 8), r1 = min_of(7, poly.max_y - by * 8);
-  const uint32_t byte = (0xFFu >> (7 - c1)) & (0xFFu << c0);
-  return (uint64_t(byte) * 0x0101010101010101u) & (kAll >> (8 * (7 - r1))) & (kAll << (8 * r0));
+  return box_mask(poly.min_x - bx * 8, poly.max_x - bx * 8, poly.min_y - by * 8, poly.max_y - by * 8);
 }
 
 // The hierarchy costs a small polygon more than it saves: its coverage comes row by row from the
-// edge functions (EdgeRows), is gathered into the finest blocks the box touches, and only samples
+// edge functions (RowSpans), is gathered into the finest blocks the box touches, and only samples
 // not yet covered there are written. False (nothing done) when the edges are too long for 32-bit
 // rows; then the caller descends.
 bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result) {
@@ -532,28 +552,23 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
     }
   *result = TileResult::Hidden;
   if (!open) return true;
-  EdgeRows rows[kMaxPolyEdges];
-  int n = 0;
-  const SmallSetup setup = small_edges(poly, pitch_, rows, &n);
+  RowSpans rows;
+  const SmallSetup setup = small_edges(poly, pitch_, &rows);
   if (setup == SmallSetup::TooLarge) return false;
   *result = TileResult::Tiled;
   if (setup == SmallSetup::Outside) return true;
-  const uint32_t all = (uint32_t(2) << (poly.max_x - poly.min_x)) - 1;
+  const int32_t last_column = poly.max_x - poly.min_x;
+  const int s = poly.min_x & 7;  // the box's first column within its block
   for (int y = poly.min_y; y <= poly.max_y; ++y) {
-    uint32_t row = all;
-    for (int i = 0; i < n; ++i) {
-      row &= rows[i].mask(all);
-      rows[i].next_row();
-    }
-    if (row == 0) continue;
-    // The row placed at its column in the blocks: bytes of (row << s), in 32-bit halves.
-    const int s = poly.min_x & 7;
+    int32_t first, last;
+    rows.row(last_column, &first, &last);
+    if (first > last) continue;
+    // The span placed at its column in the blocks it reaches: bytes of (row << s), in 32-bit halves.
+    const uint32_t row = span_bits(first, last);
     const uint32_t low = row << s, high = s == 0 ? 0 : row >> (32 - s);
     const int j = (y >> 3) - cy0, shift = (y & 7) * 8;
-    for (int i = 0; i < nx; ++i) {
-      const uint32_t byte = (i < 4 ? low >> (8 * i) : high) & 0xFFu;
-      if (byte != 0) cover[j][i] |= uint64_t(byte) << shift;
-    }
+    for (int i = (first + s) >> 3; i <= (last + s) >> 3; ++i)
+      cover[j][i] |= uint64_t((i < 4 ? low >> (8 * i) : high) & 0xFFu) << shift;
   }
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {

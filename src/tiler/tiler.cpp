@@ -80,7 +80,10 @@ class BandWriter : public CoverageWriter {
     view_ = view;
     segment_rows_ = segment_rows;
   }
-  void begin_part(const ScreenTriangle* part) {
+  // world: the piece's triangle's world vertices when read already (for its shading; valid while the
+  // part is tiled), or null.
+  void begin_part(const ScreenTriangle* part, const Vec3i* world) {
+    world_ = world;
     part_ = part;
     planes_ready_ = false;
   }
@@ -107,8 +110,14 @@ class BandWriter : public CoverageWriter {
   }
 
   bool write_block(uint64_t mask, int x, int band_y) override {
-    if (factor_ == 1) return CoverageWriter::write_block(mask, x, band_y);
     first_write();
+    if (factor_ == 1 && !cosine_) {
+      // One colour for the whole block: the mask goes to the band as it is, not run by run.
+      if (texture_ != kNone || colors_.smooth) return CoverageWriter::write_block(mask, x, band_y);
+      stats_->pixel_writes += uint64_t(__builtin_popcountll(mask));
+      out_.fill_mask(mask, x, band_y + top_, colors_.flat);
+      return true;
+    }
     if (cosine_) {
       cosine_->add_block(mask, x, band_y, colours_);
       return true;
@@ -128,7 +137,7 @@ class BandWriter : public CoverageWriter {
   void first_write() {
     wrote_piece_ = true;
     if (shaded_) return;
-    shade_triangle(*scene_, *light_, mode_, triangle_, front_facing_, &colors_);
+    shade_triangle(*scene_, *light_, mode_, triangle_, front_facing_, &colors_, world_);
     shaded_ = true;
     ++stats_->shading_calls;
   }
@@ -306,6 +315,7 @@ class BandWriter : public CoverageWriter {
   SampleFilter* cosine_ = nullptr;
   int top_ = 0;
   const Scene* scene_ = nullptr;
+  const Vec3i* world_ = nullptr;
   const Light* light_ = nullptr;
   ShadingMode mode_ = ShadingMode::Flat;
   uint32_t triangle_ = 0;
@@ -1010,7 +1020,7 @@ bool TilerFrame::draw_piece(uint32_t index) {
     }
     if (!band_.clip(&poly)) continue;
     ++st_->triangles_tiled;
-    writer_->begin_part(&parts[i]);
+    writer_->begin_part(&parts[i], have_whole ? whole_world : nullptr);
     if (tiler_.tile(poly, *writer_) == TileResult::Failed)
       return false;
   }

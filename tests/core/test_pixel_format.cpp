@@ -37,6 +37,40 @@ TEST(PixelFormat, StoreLoadRoundTripsAndKeepsNeighbours) {
   }
 }
 
+// fill_mask writes exactly the mask's pixels, each with the value fill() gives it (dithered or not),
+// and leaves every other byte of the band as it was.
+TEST(PixelFormat, FillMaskEqualsFillOfEachSetPixel) {
+  std::mt19937 rng(11);
+  for (ml::PixelFormat f : kAll)
+    for (bool dither : {false, true})
+      for (int trial = 0; trial < 40; ++trial) {
+        const int width = 29, rows = 24;
+        const uint32_t stride = ml::format_stride(f, width);
+        std::vector<uint8_t> by_mask(ml::format_band_bytes(f, width, rows) + 4);
+        for (uint8_t& b : by_mask) b = uint8_t(rng());
+        std::vector<uint8_t> by_fill = by_mask;
+        ml::PixelPacker packer;
+        packer.init(f, dither);
+        // Full rows, empty rows and ragged ones.
+        uint64_t mask = (uint64_t(rng()) << 32) | rng();
+        mask &= (uint64_t(rng()) << 32) | rng();
+        for (int r = 0; r < 8; ++r) {
+          const uint32_t pick = rng() % 4;
+          if (pick == 0) mask |= uint64_t(0xFF) << (8 * r);
+          if (pick == 1) mask &= ~(uint64_t(0xFF) << (8 * r));
+        }
+        const int x = int(rng() % uint32_t(width - 7));
+        const int row = int(rng() % uint32_t(rows - 7));
+        const int frame_y = row + 40;
+        const ml::Pixel value = rng() & 0xFFFFFF;
+        packer.fill_mask(by_mask.data(), stride, x, row, frame_y, mask, value);
+        for (int bit = 0; bit < 64; ++bit)
+          if (mask >> bit & 1)
+            packer.fill(by_fill.data(), stride, x + (bit & 7), row + (bit >> 3), frame_y + (bit >> 3), 1, 1, value);
+        ASSERT_EQ(by_mask, by_fill) << "format " << int(f) << " dither " << dither << " mask " << std::hex << mask;
+      }
+}
+
 TEST(PixelFormat, QuantizesToNearestAndExpandsBack) {
   EXPECT_EQ(ml::quantize_pixel(ml::PixelFormat::Rgb565Be, 0xFFFFFF, false, 0, 0), 0xFFFFu);
   EXPECT_EQ(ml::quantize_pixel(ml::PixelFormat::Rgb565Le, 0xFF0000, false, 0, 0), 0xF800u);
