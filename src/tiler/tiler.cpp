@@ -641,48 +641,57 @@ class TexturePlan : public TextureNextUse {
 class BandPlan {
  public:
   static constexpr int kFacingUnknown = -2;  // facing(): no piece of the triangle tested yet
+  // Two-byte entries and the facing bits are a 64-bit host's: on the boards they cost code (the
+  // m0plus image would pass its 96 KB budget) and RAM that their frames (at most 16 bands, few split
+  // triangles in scenes that fit their flash) do not repay: the bundled scene on the Cortex-M3 took
+  // 10.96 M instructions without them, 11.12 M with them.
+  static constexpr bool kExtras = sizeof(void*) >= 8;
 
   // Bytes of the entries (aligned for two-byte ones) and of the facing bits.
-  static size_t entry_bytes(uint32_t pieces, int bands) { return bands > 16 ? 2 * size_t(pieces) + 1 : size_t(pieces); }
-  static size_t facing_bytes(uint32_t triangles) { return (size_t(triangles) + 3) / 4; }
+  static size_t entry_bytes(uint32_t pieces, int bands) {
+    return kExtras && bands > 16 ? 2 * size_t(pieces) + 1 : size_t(pieces);
+  }
+  static size_t facing_bytes(uint32_t triangles) { return kExtras ? (size_t(triangles) + 3) / 4 : 0; }
   // Entries from the arena, and two bits a triangle with keep_facing (else the facing is not kept).
   void init(Arena& arena, uint32_t pieces, bool keep_facing, uint32_t triangles, int bands) {
-    bits_ = bands > 16 ? 8 : 4;
+    bits_ = kExtras && bands > 16 ? 8 : 4;
     const uint32_t max = (1u << bits_) - 1;
     no_band_ = uint16_t(max << bits_);
     unknown_ = uint16_t(no_band_ | 1);
     every_band_ = uint16_t(max);
     group_ = (bands + int(max)) >> bits_;
-    if (bits_ == 8) {
+    if (kExtras && bits_ == 8) {
       wide_ = arena.allocate_array<uint16_t>(pieces);
       for (uint32_t i = 0; wide_ && i < pieces; ++i) wide_[i] = unknown_;
     } else {
       narrow_ = arena.allocate_array<uint8_t>(pieces);
-      if (narrow_) memset(narrow_, unknown_, pieces);  // a byte at a time took 5 instructions a piece
+      if (narrow_) memset(narrow_, unknown(), pieces);  // a byte at a time took 5 instructions a piece
     }
-    facing_ = keep_facing ? arena.allocate_array<uint8_t>(facing_bytes(triangles)) : nullptr;  // facing + 2, 0 = unknown
+    facing_ = kExtras && keep_facing ? arena.allocate_array<uint8_t>(facing_bytes(triangles)) : nullptr;  // facing + 2, 0 = unknown
     if (facing_) memset(facing_, 0, facing_bytes(triangles));
     active_ = narrow_ || wide_;
   }
   bool active() const { return active_; }
-  bool keeps_facing() const { return facing_ != nullptr; }
+  bool keeps_facing() const { return kExtras && facing_ != nullptr; }
   // Whether an entry's bands are exactly the per-band test's (no test needed after it).
   bool exact() const { return group_ == 1; }
-  uint16_t unknown() const { return unknown_; }
-  uint16_t no_band() const { return no_band_; }
-  uint16_t every_band() const { return every_band_; }
-  uint16_t get(uint32_t piece) const { return wide_ ? wide_[piece] : narrow_[piece]; }
+  // Constants on the boards (one-byte entries only).
+  int bits() const { return kExtras ? bits_ : 4; }
+  uint16_t unknown() const { return kExtras ? unknown_ : 0xF1; }
+  uint16_t no_band() const { return kExtras ? no_band_ : 0xF0; }
+  uint16_t every_band() const { return kExtras ? every_band_ : 0x0F; }
+  uint16_t get(uint32_t piece) const { return kExtras && wide_ ? wide_[piece] : narrow_[piece]; }
   void set(uint32_t piece, uint16_t entry) {
-    if (wide_) wide_[piece] = entry; else narrow_[piece] = uint8_t(entry);
+    if (kExtras && wide_) wide_[piece] = entry; else narrow_[piece] = uint8_t(entry);
   }
   uint16_t make(int first_band, int last_band) const {
-    return uint16_t((first_band / group_) << bits_ | (last_band / group_));
+    return uint16_t((first_band / group_) << bits() | (last_band / group_));
   }
   // The band the walk is in (its group, computed once a band rather than once a piece).
   void at_band(int band) { band_group_ = band / group_; }
   // Whether the entry's bands hold the current band.
   bool has(uint16_t entry) const {
-    return (entry >> bits_) <= band_group_ && band_group_ <= (entry & every_band_);
+    return (entry >> bits()) <= band_group_ && band_group_ <= (entry & every_band());
   }
   // triangle_facing of triangle t (-1, 0 or 1), or kFacingUnknown.
   int facing(uint32_t t) const { return int((facing_[t >> 2] >> ((t & 3) * 2)) & 3) - 2; }
