@@ -103,7 +103,8 @@ const char* const kRenderHelp =
     "  --work OUT.png              Greene's work image: pyramid cells visited per pixel, log-scale\n"
     "                              heatmap (tiler only)\n"
     "  --stats                     print one JSON object of frame statistics on stdout\n"
-    "  --arena BYTES               use an arena of this size instead of the exact need\n"
+    "  --arena BYTES               use an arena of this size instead of the need plus the tiler's band\n"
+    "                              plan (the same image either way)\n"
     "  --texture-pool BYTES|all    texture pool in the arena (default all: every texture fits; smaller\n"
     "                              pools evict and reload, below the largest texture some fall back)\n"
     "  --texture-source blob|file  texels from the scene in memory (default) or read from the .mls file\n"
@@ -546,7 +547,14 @@ void finish_render_args(RenderArgs* r) {
   if (!r->has_dither) r->opt.output.dither = ml::format_dithers_by_default(r->opt.output.format);
 }
 
-// An arena kept from frame to frame (show): sized once by render_arena_bytes, which projects the whole
+// The arena the CLI gives a render unless told otherwise (--arena): what it needs plus the spare bytes
+// that make it faster (render_spare_bytes: the tiler's band plan), as a board with RAM to spare does.
+// The image is the same with or without them.
+size_t default_arena_bytes(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o) {
+  return ml::render_arena_bytes(scene, camera, o) + ml::render_spare_bytes(scene, camera, o);
+}
+
+// An arena kept from frame to frame (show): sized once by default_arena_bytes, which projects the whole
 // scene, and after that only grown when a render reports ArenaTooSmall (which it does before touching
 // the sink), so a frame does not pay for a sizing pass besides its own render.
 struct FrameArena {
@@ -557,7 +565,7 @@ struct FrameArena {
 ml::Status render_reusing(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o,
                           FrameArena* frame, ml::Sink& sink, ml::Stats* stats) {
   if (frame->bytes == 0) {
-    frame->bytes = ml::render_arena_bytes(scene, camera, o);
+    frame->bytes = default_arena_bytes(scene, camera, o);
     frame->storage.assign(frame->bytes / 8 + 1, 0);
   }
   for (;;) {
@@ -569,8 +577,8 @@ ml::Status render_reusing(const ml::Scene& scene, const ml::Camera& camera, cons
   }
 }
 
-// One render into `sink` with an arena of the exact need (or --arena, or `frame` reused from the
-// previous frame); failures exit with one line. A sink's own message (sink_error, read after the
+// One render into `sink` with the default arena (or --arena, or `frame` reused from the previous
+// frame); failures exit with one line. A sink's own message (sink_error, read after the
 // render) explains a SinkFailed better than the status.
 ml::Stats render_into(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o,
                       long long arena_override, ml::Sink& sink, const std::string* sink_error = nullptr,
@@ -582,16 +590,16 @@ ml::Stats render_into(const ml::Scene& scene, const ml::Camera& camera, const ml
     if (!s.ok()) failure(std::string("render failed: ") + status_text(s));
     return stats;
   }
-  const size_t need = ml::render_arena_bytes(scene, camera, o);
-  const size_t bytes = arena_override >= 0 ? size_t(arena_override) : need;
+  const size_t given = default_arena_bytes(scene, camera, o);
+  const size_t bytes = arena_override >= 0 ? size_t(arena_override) : given;
   std::vector<uint64_t> storage;
   MappedArena mapped;
   void* base = nullptr;
-  if (bytes <= need) {
+  if (bytes <= given) {
     storage.assign((bytes + 7) / 8, 0);
     base = storage.data();
   } else {
-    // More than the render needs (--arena): mapped, not allocated, so the pages the render never
+    // More than the render can use (--arena): mapped, not allocated, so the pages the render never
     // touches cost nothing and a size the system cannot provide is one error line.
     mapped.base = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
     if (mapped.base == MAP_FAILED) failure("out of memory: cannot map an arena of " + std::to_string(bytes) + " bytes");

@@ -37,7 +37,7 @@ static_assert(sizeof(YSortEntry) == 8, "YSortEntry layout");
 
 // yActiveList element: the piece's screen-space parameters (§4) and its span on the current row.
 enum : uint8_t {
-  kWeightsReady = 1,    // weight_recip is set
+  kWeightsReady = 1,    // weight_recip and weight_shift are set
   kFront = 8,
   kColorsReady = 16,
   kSmooth = 32,
@@ -57,8 +57,9 @@ struct ActiveTri {
   uint8_t perm;         // unclipped piece: original vertex of piece vertex j in bits 2j..2j+1; 0xFF clipped
   uint16_t box_x0, box_x1;  // sample columns of the piece's bounding box, clipped to the screen
   int16_t edge_x[3];    // edge i's boundary column on the last row stepped (step_span)
-  uint16_t pad;
-  uint32_t weight_recip;  // kWeightsReady: weight_reciprocal, for sample_weights
+  uint8_t weight_shift;   // kWeightsReady: the weights' numerators and divisor shift (prepare_weights)
+  uint8_t pad;
+  uint32_t weight_recip;  // kWeightsReady: the divisor's reciprocal (prepare_weights), for sample_weights
   uint32_t pad2;
 };
 static_assert(sizeof(ActiveTri) == 104, "ActiveTri layout");
@@ -87,12 +88,13 @@ bool step_span(ActiveTri* t, const Lattice& lat, int32_t y, int32_t* min_x, int3
 // Depth plane of a piece (vertices vx/vy in ActiveTri, depths d[3]): sets z_row for row 0, gx, gy.
 void depth_plane(ActiveTri* t, const uint32_t depth[3], const Lattice& lat);
 
-// The reciprocal sample_weights divides by (core/fixed.h make_reciprocal of the piece's area2 * den,
-// kept below 2^46): one per piece.
-uint32_t weight_reciprocal(const ActiveTri& t, const Lattice& lat);
+// Sets the reciprocal sample_weights divides by (core/fixed.h make_reciprocal of the piece's area2 * den,
+// shifted below 2^46) and that shift: once per piece, so no sample measures the area's bit length.
+void prepare_weights(ActiveTri* t, const Lattice& lat);
 
 // Barycentric weights (Q16, summing to 65536) of the piece's vertices at a covered sample (X, Y):
-// round(E_j 2^16 / (area2 den)) exactly, by t.weight_recip (weight_reciprocal): no division.
+// round(E_j 2^16 / (area2 den)) exactly, by t.weight_recip and t.weight_shift (prepare_weights): no
+// division.
 void sample_weights(const ActiveTri& t, const Lattice& lat, int32_t x, int32_t y, int32_t w[3]);
 
 

@@ -154,12 +154,10 @@ static inline int64_t triangle_area2(const ActiveTri& t) {
          (int64_t(t.vy[1]) - t.vy[0]) * (int64_t(t.vx[2]) - t.vx[0]);
 }
 
-// The weights' divisor for a sum of edge functions `total` > 0: total kept below 2^46 (so that a
-// numerator << 16 fits), at least 1.
-static inline uint64_t weight_divisor(uint64_t total) {
-  const int shift = max_of(0, bit_length(total) - kReciprocalDivisorBits);
-  return max_of<uint64_t>(1, total >> shift);
-}
+// The weights' divisor for a sum of edge functions `total` > 0 is total >> weight_shift(total): kept
+// below 2^46 (so that a numerator << 16 fits), at least 1.
+static inline int weight_shift(uint64_t total) { return max_of(0, bit_length(total) - kReciprocalDivisorBits); }
+static inline uint64_t weight_divisor(uint64_t total, int shift) { return max_of<uint64_t>(1, total >> shift); }
 
 void depth_plane(ActiveTri* t, const uint32_t depth[3], const Lattice& lat) {
   // Barycentric weight of vertex j = E_opp(j) / area2 with E_opp(j) the unbiased edge v_{j+1} -> v_{j+2}
@@ -180,8 +178,10 @@ void depth_plane(ActiveTri* t, const uint32_t depth[3], const Lattice& lat) {
   t->gy = mul_add3_div_round_low(d, cb, 16 + kSubpixelBits, den);
 }
 
-uint32_t weight_reciprocal(const ActiveTri& t, const Lattice& lat) {
-  return make_reciprocal(weight_divisor(triangle_area2(t) * lat.den));
+void prepare_weights(ActiveTri* t, const Lattice& lat) {
+  const uint64_t total = uint64_t(triangle_area2(*t) * lat.den);
+  t->weight_shift = uint8_t(weight_shift(total));
+  t->weight_recip = make_reciprocal(weight_divisor(total, t->weight_shift));
 }
 
 void sample_weights(const ActiveTri& t, const Lattice& lat, int32_t x, int32_t y, int32_t w[3]) {
@@ -192,11 +192,12 @@ void sample_weights(const ActiveTri& t, const Lattice& lat, int32_t x, int32_t y
     if (e[j] < 0) e[j] = 0;  // not at a covered sample; kept in range
   }
   // At a covered sample the three are >= 0 and sum to area2 * den (the edge functions of a triangle
-  // add up to its doubled area everywhere): the divisor weight_reciprocal was made for. Numerators are
-  // kept below 2^46 so that << 16 fits; w = round(e 2^16 / total) (div_round of non-negatives).
+  // add up to its doubled area everywhere): the divisor prepare_weights made the reciprocal for.
+  // Numerators are kept below 2^46 so that << 16 fits; w = round(e 2^16 / total) (div_round of
+  // non-negatives).
   const uint64_t total = uint64_t(triangle_area2(t) * lat.den);
-  const int shift = max_of(0, bit_length(total) - kReciprocalDivisorBits);
-  const uint64_t d = weight_divisor(total);
+  const int shift = t.weight_shift;
+  const uint64_t d = weight_divisor(total, shift);
   const uint64_t half = d / 2;
   for (int j = 1; j < 3; ++j) {
     const uint64_t ej = min_of(uint64_t(e[j]), total) >> shift;  // <= d: quotients <= 2^16
@@ -518,7 +519,7 @@ struct Renderer {
   // per sample row (l > 1)
   int32_t cur_px = 0;
   int32_t cur_right = 0;  // cur_px's right border sample
-  Pixel last_colour = 0;  // emit_sample: pack(last_colour)
+  Pixel last_colour = 0;  // emit_sample, emit_run: last_packed = pack(last_colour)
   uint64_t last_packed = 0;
   uint64_t cur_sum = 0;
   int32_t row_kind = 0;  // 0 interior, 1 top of frame, 2 shared border, 3 bottom of frame
@@ -607,7 +608,7 @@ struct Renderer {
     Pixel c = a.color[0];
     if (a.flags & kSmooth) {
       if (!(a.flags & kWeightsReady)) {
-        a.weight_recip = weight_reciprocal(a, s.lat);  // one reciprocal a piece, no division a sample
+        prepare_weights(&a, s.lat);  // one reciprocal a piece, no division a sample
         a.flags |= kWeightsReady;
       }
       int32_t w[3];
@@ -713,11 +714,11 @@ struct Renderer {
       default: keep_surface[px] = finish(acc[px] + sum); break;
     }
   }
-  // commit(px, sum) for px in [px0, px1), the row kind decided once; sum is q + 1 samples of colour c.
-  // A pixel whose l^2 samples all have colour c (background, a surface's inside: most pixels) is c
-  // exactly, without the mean's divisions.
-  void commit_same(int32_t px0, int32_t px1, uint64_t sum, Pixel c) {
-    const uint64_t all_c = pack(c) * uint64_t(s.lat.l * s.lat.l);
+  // commit(px, sum) for px in [px0, px1), the row kind decided once; sum is q + 1 samples of colour c
+  // (packed: pc). A pixel whose l^2 samples all have colour c (background, a surface's inside: most
+  // pixels) is c exactly, without the mean's divisions.
+  void commit_same(int32_t px0, int32_t px1, uint64_t sum, Pixel c, uint64_t pc) {
+    const uint64_t all_c = pc * uint64_t(s.lat.l * s.lat.l);
     switch (row_kind) {
       case 0: for (int32_t px = px0; px < px1; ++px) acc[px] += sum; break;
       case 1: for (int32_t px = px0; px < px1; ++px) acc[px] = sum; break;
@@ -742,7 +743,8 @@ struct Renderer {
       for (int32_t x = x0; x <= x1; ++x) keep_surface[x] = c;
       return;
     }
-    const uint64_t pc = pack(c);
+    if (c != last_colour) { last_colour = c; last_packed = pack(c); }  // runs of one colour are common
+    const uint64_t pc = last_packed;
     const int32_t q = s.lat.q;
     while (x0 <= x1 && cur_px < s.width) {
       if (x1 < cur_right) { cur_sum += pc * uint64_t(x1 - x0 + 1); return; }
@@ -754,7 +756,7 @@ struct Renderer {
       // Pixels the run covers whole get the same sum: committed in one loop.
       const int32_t whole = min_of((x1 - x0 + 1) / q, s.width - cur_px);
       if (whole > 0) {
-        commit_same(cur_px, cur_px + whole, pc * uint64_t(q + 1), c);
+        commit_same(cur_px, cur_px + whole, pc * uint64_t(q + 1), c, pc);
         cur_px += whole - 1;
         cur_right += (whole - 1) * q;
         x0 = cur_right + 1;
@@ -1156,12 +1158,18 @@ struct Renderer {
           if (varying) {
             for (int32_t x = 0; x < s.width; ++x) { keep_surface[x] = 0; keep_rgb[x] &= ~kForce; }
           } else {  // kForce is never read when surfaces have one colour
-            for (int32_t x = 0; x < s.width; ++x) keep_surface[x] = 0;
+            clear_words(keep_surface, s.width);
           }
         }
       }
     }
     return out.end();
+  }
+
+  // n words set to 0, with the pointer and count in locals: a store through the uint32_t array may
+  // alias the int32_t width, so a loop over members would reload it at every word.
+  static void clear_words(uint32_t* words, int32_t n) {
+    for (int32_t i = 0; i < n; ++i) words[i] = 0;
   }
 
   // Packs a finished pixel row into its band; the band leaves when its last row is in.

@@ -3,15 +3,22 @@
 namespace ml {
 namespace {
 
-// A texel index along one axis of `size` texels (a power of two) under a wrap mode.
-inline int32_t wrap(int64_t i, uint32_t size, uint8_t mode) {
-  const int64_t n = int64_t(size);
-  if (mode == uint8_t(TextureWrap::ClampToEdge)) return int32_t(i < 0 ? 0 : (i >= n ? n - 1 : i));
-  if (mode == uint8_t(TextureWrap::MirroredRepeat)) {
-    const int64_t m = i & (2 * n - 1);  // two's complement: the period is 2n for negative i too
-    return int32_t(m < n ? m : 2 * n - 1 - m);
+// A texel index along one axis of `size` texels (a power of two) under wrap mode M.
+template <TextureWrap M>
+__attribute__((always_inline)) inline int32_t wrap_as(int64_t i, int32_t size) {
+  if (M == TextureWrap::ClampToEdge) return int32_t(i < 0 ? 0 : (i >= size ? size - 1 : i));
+  if (M == TextureWrap::MirroredRepeat) {
+    const int32_t m = int32_t(i) & (2 * size - 1);  // two's complement: the period is 2n for negative i too
+    return m < size ? m : 2 * size - 1 - m;
   }
-  return int32_t(i & (n - 1));
+  return int32_t(i) & (size - 1);
+}
+
+// wrap_as() with the mode known when drawing.
+inline int32_t wrap(int64_t i, uint32_t size, uint8_t mode) {
+  if (mode == uint8_t(TextureWrap::ClampToEdge)) return wrap_as<TextureWrap::ClampToEdge>(i, int32_t(size));
+  if (mode == uint8_t(TextureWrap::MirroredRepeat)) return wrap_as<TextureWrap::MirroredRepeat>(i, int32_t(size));
+  return wrap_as<TextureWrap::Repeat>(i, int32_t(size));
 }
 
 inline uint32_t expand5(uint32_t v) { return (v << 3) | (v >> 2); }
@@ -261,17 +268,6 @@ void piece_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexe
   }
 }
 
-// wrap() with the mode known when compiling.
-template <TextureWrap M>
-__attribute__((always_inline)) inline int32_t wrap_as(int64_t i, int32_t size) {
-  if (M == TextureWrap::ClampToEdge) return int32_t(i < 0 ? 0 : (i >= size ? size - 1 : i));
-  if (M == TextureWrap::MirroredRepeat) {
-    const int32_t m = int32_t(i) & (2 * size - 1);  // two's complement: the period is 2n for negative i too
-    return m < size ? m : 2 * size - 1 - m;
-  }
-  return int32_t(i) & (size - 1);
-}
-
 // Nearest filtering, both axes' wrap modes fixed (mirrored and clamped textures: no mode tests per
 // sample); the table gives texels modulated by the colour.
 template <TexelFormat F, TextureWrap S, TextureWrap T>
@@ -311,13 +307,14 @@ void nearest_piece(const TexturePiece& pc, const TexturePlanes& p, const Texture
 template <TexelFormat F, TextureWrap S>
 PieceRun nearest_piece_s(uint8_t wrap_t) {
   switch (TextureWrap(wrap_t)) {
-    case TextureWrap::Repeat: return &nearest_piece<F, S, TextureWrap::Repeat>;
+    case TextureWrap::Repeat:
+      if constexpr (S == TextureWrap::Repeat) return nullptr;  // both axes repeat: piece_run's mask loop
+      else return &nearest_piece<F, S, TextureWrap::Repeat>;
     case TextureWrap::MirroredRepeat: return &nearest_piece<F, S, TextureWrap::MirroredRepeat>;
     case TextureWrap::ClampToEdge: return &nearest_piece<F, S, TextureWrap::ClampToEdge>;
     default: return nullptr;
   }
 }
-#endif
 
 template <TexelFormat F>
 PieceRun piece_run_for(const TextureTexels& t, Pixel after) {
@@ -326,9 +323,6 @@ PieceRun piece_run_for(const TextureTexels& t, Pixel after) {
     return repeat ? &piece_run<F, true, true> : &piece_run<F, true, false>;
   if (repeat) return &piece_run<F, false, true>;
   PieceRun run = nullptr;
-#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
-  // ML_TEXTURE_RUNS_GENERAL_ONLY (set by the firmware build, Makefile fw_opt): no runs specialized by
-  // wrap mode (nine instances, about 10 KB of Cortex-M code); the general run gives the same texels.
   if (after == 0xFFFFFF) {
     switch (TextureWrap(t.wrap_s)) {
       case TextureWrap::Repeat: run = nearest_piece_s<F, TextureWrap::Repeat>(t.wrap_t); break;
@@ -337,11 +331,32 @@ PieceRun piece_run_for(const TextureTexels& t, Pixel after) {
       default: break;
     }
   }
-#else
-  (void)after;
-#endif
   return run ? run : &piece_run<F, false, false>;
 }
+#else
+// The firmware's runs (ML_TEXTURE_RUNS_GENERAL_ONLY, set by the firmware build, Makefile fw_opt: its
+// code budget): one function a format, the filter and the wraps tested per piece, and no runs
+// specialized by wrap mode (eight instances, about 10 KB of Cortex-M code; the general run gives the
+// same texels).
+template <TexelFormat F>
+void format_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes,
+                const Pixel* lut, Pixel after, int64_t j, int32_t n, Pixel* out) {
+  const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
+  if (t.filter == uint8_t(TextureFilter::Bilinear)) {
+    if (repeat) piece_run<F, true, true>(pc, p, t, bytes, lut, after, j, n, out);
+    else piece_run<F, true, false>(pc, p, t, bytes, lut, after, j, n, out);
+  } else if (repeat) {
+    piece_run<F, false, true>(pc, p, t, bytes, lut, after, j, n, out);
+  } else {
+    piece_run<F, false, false>(pc, p, t, bytes, lut, after, j, n, out);
+  }
+}
+
+template <TexelFormat F>
+PieceRun piece_run_for(const TextureTexels&, Pixel) {
+  return &format_run<F>;
+}
+#endif
 
 // The run for texture t's format (null: no texels, format None).
 PieceRun piece_run_of(const TextureTexels& t, Pixel after) {

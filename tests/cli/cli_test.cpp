@@ -201,6 +201,39 @@ TEST_F(CliTemp, ArenaTooSmallNamesTheBytesNeeded) {
   EXPECT_EQ(ok.exit_code, 0) << ok.describe();
 }
 
+// Without --arena the tiler gets its band plan's spare bytes (render_spare_bytes) on a frame of several
+// bands: its peak holds the plan, and the picture is the one the least arena gives. A frame of one band
+// has no plan: the two peaks are equal.
+TEST_F(CliTemp, DefaultArenaCarriesTheTilerBandPlanWithTheSameImage) {
+  for (const char* rows : {"16", "0"}) {
+    const std::vector<std::string> common{"render", "--size", "160x120", "--band-rows", rows, "--stats"};
+    // The least arena, from the error a too small one gives.
+    std::vector<std::string> tiny = common;
+    tiny.insert(tiny.end(), {"--arena", "64", "-o", path("tiny.png")});
+    const RunResult t = run_cli(tiny);
+    const size_t at = t.err.find("arena too small: ");
+    ASSERT_NE(at, std::string::npos) << t.describe();
+    const std::string need = std::to_string(std::stoll(t.err.substr(at + 17)));
+    std::vector<std::string> planned = common, least = common;
+    planned.insert(planned.end(), {"-o", path("planned.png")});
+    least.insert(least.end(), {"--arena", need, "-o", path("least.png")});
+    const RunResult a = run_cli(planned), b = run_cli(least);
+    ASSERT_EQ(a.exit_code, 0) << a.describe();
+    ASSERT_EQ(b.exit_code, 0) << b.describe();
+    if (std::string(rows) == "16")
+      EXPECT_GT(json_int(a.out, "peak_arena_bytes"), json_int(b.out, "peak_arena_bytes")) << a.out << b.out;
+    else
+      EXPECT_EQ(json_int(a.out, "peak_arena_bytes"), json_int(b.out, "peak_arena_bytes")) << a.out << b.out;
+    int wa = 0, ha = 0, wb = 0, hb = 0;
+    std::vector<uint32_t> pa, pb;
+    ASSERT_EQ(mlhost::read_png(path("planned.png"), &wa, &ha, &pa, false), "");
+    ASSERT_EQ(mlhost::read_png(path("least.png"), &wb, &hb, &pb, false), "");
+    EXPECT_EQ(wa, 160);
+    EXPECT_EQ(ha, 120);
+    EXPECT_TRUE(pa == pb) << "band rows " << rows;
+  }
+}
+
 TEST_F(CliTemp, ScanlineRendersWithAntialiasingAndLines) {
   for (const auto& extra : std::vector<std::vector<std::string>>{{"--aa", "3"}, {"--shading", "lines"}, {"--shading", "gouraud", "--aa", "2"}}) {
     std::vector<std::string> args{"render", "--renderer", "scanline", "--size", "64x48", "-o", path("s.png"), "--stats"};

@@ -86,15 +86,19 @@ std::vector<TexturedPixel> texture_image(const std::vector<Triangle>& triangles,
           texel[k] = (at(x0, y0) * (1 - fu) + at(x0 + 1, y0) * fu) * (1 - fv) +
                      (at(x0, y0 + 1) * (1 - fu) + at(x0 + 1, y0 + 1) * fu) * fv;
           // Moving the sample point by delta along an axis changes the blend by at most delta times
-          // the largest step between neighbours in the texels it can reach.
-          double steepest = 0;
+          // the largest step between neighbours in the texels it can reach; and, both blends being
+          // means of those texels, by at most their range (the tighter of the two when delta spans
+          // texels: minified textures).
+          double steepest = 0, lo = 255, hi = 0;
           const long reach = long(std::ceil(delta)) + 1;
           for (long yy = y0 - reach; yy <= y0 + reach; ++yy)
             for (long xx = x0 - reach; xx <= x0 + reach; ++xx) {
               steepest = std::max(steepest, std::fabs(at(xx + 1, yy) - at(xx, yy)));
               steepest = std::max(steepest, std::fabs(at(xx, yy + 1) - at(xx, yy)));
+              lo = std::min(lo, at(xx, yy));
+              hi = std::max(hi, at(xx, yy));
             }
-          px.slack[k] = 2 * delta * steepest * channel(s.base, k) / 255.0;
+          px.slack[k] = std::min(2 * delta * steepest, hi - lo) * channel(s.base, k) / 255.0;
         }
       }
       px.known = true;

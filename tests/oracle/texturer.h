@@ -43,8 +43,8 @@ struct CoordinateError {
 
 // Expected unlit colours. texel_margin: nearest-filtered samples whose texel coordinate lies within
 // this fraction of a texel (plus the coordinate error) of a texel edge are left unknown; bilinear
-// samples get a slack of the coordinate error times the largest step between neighbouring texels;
-// edge_margin: pixels as in Result::decisive.
+// samples get a slack of twice the coordinate error times the largest step between neighbouring
+// texels, or the range of the texels within reach if smaller; edge_margin: pixels as in Result::decisive.
 std::vector<TexturedPixel> texture_image(const std::vector<Triangle>& triangles, const std::vector<Surface>& surfaces,
                                          const std::vector<Texture>& textures, const Camera& camera,
                                          const Result& visible, double texel_margin, double edge_margin,

@@ -1077,7 +1077,7 @@ TEST(ScanlineMath, WeightsByReciprocalEqualWeightsByDivision) {
     ml::scan::LatticeBox box;
     if (!ml::scan::lattice_box(t, lat, &box)) continue;
     ml::scan::ActiveTri a = active_from(t, box);
-    a.weight_recip = ml::scan::weight_reciprocal(a, lat);
+    ml::scan::prepare_weights(&a, lat);
     for (int32_t y = box.y0; y <= box.y1; ++y) {
       int32_t x0, x1;
       if (!ml::scan::row_span(a, lat, y, &x0, &x1)) continue;
