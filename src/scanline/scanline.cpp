@@ -1158,12 +1158,18 @@ struct Renderer {
           if (varying) {
             for (int32_t x = 0; x < s.width; ++x) { keep_surface[x] = 0; keep_rgb[x] &= ~kForce; }
           } else {  // kForce is never read when surfaces have one colour
-            for (int32_t x = 0; x < s.width; ++x) keep_surface[x] = 0;
+            clear_words(keep_surface, s.width);
           }
         }
       }
     }
     return out.end();
+  }
+
+  // n words set to 0, with the pointer and count in locals: a store through the uint32_t array may
+  // alias the int32_t width, so a loop over members would reload it at every word.
+  static void clear_words(uint32_t* words, int32_t n) {
+    for (int32_t i = 0; i < n; ++i) words[i] = 0;
   }
 
   // Packs a finished pixel row into its band; the band leaves when its last row is in.
