@@ -27,8 +27,8 @@ size_t render_tiler_arena_bytes(const Scene& scene, const Camera& camera, const 
 }
 
 size_t render_tiler_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
-  const bool bands = band_rows_for(effective_options(options).output, camera.height) < camera.height;
-  return bands ? tiler_plan_bytes(scene) : 0;
+  const int rows = band_rows_for(effective_options(options).output, camera.height);
+  return rows < camera.height ? tiler_plan_bytes(scene, (camera.height + rows - 1) / rows) : 0;
 }
 
 Status render_tiler(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,

@@ -418,6 +418,14 @@ Status read_scene(const void* blob, size_t size, Scene* out, CrcCheck crc) {
   return ok_status();
 }
 
+BspNode bsp_node_unboxed(const Scene& s, uint32_t i) {
+  return s.wide ? scene_detail::node<uint32_t>(s, i) : scene_detail::node<uint16_t>(s, i);
+}
+
+void bsp_node_box(const Scene& s, uint32_t i, BspNode* node) {
+  if (s.wide) scene_detail::node_box<uint32_t>(s, i, node); else scene_detail::node_box<uint16_t>(s, i, node);
+}
+
 Vec3i vertex_world(const Scene& scene, uint32_t batch, uint32_t vertex) {
   const Batch& b = scene.batches[batch];
   const int16_t* q = scene.vertices[vertex].position;

@@ -130,15 +130,12 @@ inline BspPiece bsp_piece(const Scene& s, uint32_t p) {
 }
 
 // BSP node i without its box: plane in Q1.30, children, piece range (bounds_min/max left unset). What
-// a walk reads at every node; bsp_node_box adds the box where it is needed.
-inline BspNode bsp_node_unboxed(const Scene& s, uint32_t i) {
-  return s.wide ? scene_detail::node<uint32_t>(s, i) : scene_detail::node<uint16_t>(s, i);
-}
+// a walk reads at every node; bsp_node_box adds the box where it is needed. (Out of line: one copy of
+// each decoder for every caller, in flash.)
+BspNode bsp_node_unboxed(const Scene& s, uint32_t i);
 
 // Fills node->bounds_min/max with node i's subtree box in world units.
-inline void bsp_node_box(const Scene& s, uint32_t i, BspNode* node) {
-  if (s.wide) scene_detail::node_box<uint32_t>(s, i, node); else scene_detail::node_box<uint16_t>(s, i, node);
-}
+void bsp_node_box(const Scene& s, uint32_t i, BspNode* node);
 
 // BSP node i, decoded: plane in Q1.30, children, piece range, subtree box in world units.
 inline BspNode bsp_node(const Scene& s, uint32_t i) {

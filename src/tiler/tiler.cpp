@@ -3,6 +3,8 @@
 // background is tiled through the root mask last. See docs/tiler.md.
 #include "tiler/tiler.h"
 
+#include <string.h>
+
 #include "core/band.h"
 #include "core/jitter.h"
 #include "shade/shade.h"
@@ -625,49 +627,83 @@ class TexturePlan : public TextureNextUse {
   uint32_t band_ = 0, band_rows_ = 1, top_ = 0, end_ = 0, k_ = 0;
 };
 
-// The band plan, made when the arena has room for one byte a BSP piece and two bits a triangle
+// The band plan, made when the arena has room for one entry a BSP piece and two bits a triangle
 // (tiler_plan_bytes): the bands each piece can reach, worked out on its first visit in any band
 // (triangle_row_span, exactly the per-band test) together with its facing. Later bands then skip the
-// piece from one byte, without reading its vertices, and never repeat its facing test; pieces the walk
-// never reaches cost nothing. A byte holds the first and last band group (4 bits each; a group is one
-// band when there are at most 16, else ceil(bands / 16) bands, and the per-band test still runs);
-// first > last: no band. A triangle's facing is kept too, from the first of its pieces the walk
+// piece from its entry, without reading its vertices, and never repeat its facing test; pieces the walk
+// never reaches cost nothing. An entry holds the first and last band group: a byte of two 4-bit groups
+// for at most 16 bands, else two bytes of 8-bit groups (bytes grouping 1024x768's 48 bands by three left
+// 6.5 M of 2CylinderEngine's 218 M frame in the per-band row test of grouped bands). A group is one
+// band up to 256 bands, else ceil(bands / 256) bands, and the per-band test still runs; first > last:
+// no band. A triangle's facing is kept too, from the first of its pieces the walk
 // reaches: the other pieces of a triangle the BSP split take it from two bits, without the test or
 // the triangle's vertices (2CylinderEngine at the bench camera: 74,352 of 128,119 first visits).
 class BandPlan {
  public:
-  static constexpr uint8_t kUnknown = 0xF1, kNoBand = 0xF0, kEveryBand = 0x0F;
   static constexpr int kFacingUnknown = -2;  // facing(): no piece of the triangle tested yet
+  // Two-byte entries and the facing bits are a 64-bit host's: on the boards they cost code (the
+  // m0plus image would pass its 96 KB budget) and RAM that their frames (at most 16 bands, few split
+  // triangles in scenes that fit their flash) do not repay: the bundled scene on the Cortex-M3 took
+  // 10.96 M instructions without them, 11.12 M with them.
+  static constexpr bool kExtras = sizeof(void*) >= 8;
 
-  static size_t bytes(uint32_t pieces, uint32_t triangles) { return size_t(pieces) + (size_t(triangles) + 3) / 4; }
-  // bytes: one a piece, then (facing_bytes) two bits a triangle, or none (the facing is then not kept).
-  void init(uint8_t* bytes, uint32_t pieces, uint8_t* facing_bytes, uint32_t triangles, int bands) {
-    bytes_ = bytes;
-    for (uint32_t i = 0; i < pieces; ++i) bytes_[i] = kUnknown;
-    facing_ = facing_bytes;  // facing + 2 in two bits a triangle, 0 = unknown
-    for (uint32_t i = 0; facing_ && i < (triangles + 3) / 4; ++i) facing_[i] = 0;
-    group_ = (bands + 15) / 16;
+  // Bytes of the entries (aligned for two-byte ones) and of the facing bits.
+  static size_t entry_bytes(uint32_t pieces, int bands) {
+    return kExtras && bands > 16 ? 2 * size_t(pieces) + 1 : size_t(pieces);
   }
-  bool active() const { return bytes_ != nullptr; }
-  bool keeps_facing() const { return facing_ != nullptr; }
-  // Whether a byte's bands are exactly the per-band test's (no test needed after it).
+  static size_t facing_bytes(uint32_t triangles) { return kExtras ? (size_t(triangles) + 3) / 4 : 0; }
+  // Entries from the arena, and two bits a triangle with keep_facing (else the facing is not kept).
+  void init(Arena& arena, uint32_t pieces, bool keep_facing, uint32_t triangles, int bands) {
+    bits_ = kExtras && bands > 16 ? 8 : 4;
+    const uint32_t max = (1u << bits_) - 1;
+    no_band_ = uint16_t(max << bits_);
+    unknown_ = uint16_t(no_band_ | 1);
+    every_band_ = uint16_t(max);
+    group_ = (bands + int(max)) >> bits_;
+    if (kExtras && bits_ == 8) {
+      wide_ = arena.allocate_array<uint16_t>(pieces);
+      for (uint32_t i = 0; wide_ && i < pieces; ++i) wide_[i] = unknown_;
+    } else {
+      narrow_ = arena.allocate_array<uint8_t>(pieces);
+      if (narrow_) memset(narrow_, unknown(), pieces);  // a byte at a time took 5 instructions a piece
+    }
+    facing_ = kExtras && keep_facing ? arena.allocate_array<uint8_t>(facing_bytes(triangles)) : nullptr;  // facing + 2, 0 = unknown
+    if (facing_) memset(facing_, 0, facing_bytes(triangles));
+    active_ = narrow_ || wide_;
+  }
+  bool active() const { return active_; }
+  bool keeps_facing() const { return kExtras && facing_ != nullptr; }
+  // Whether an entry's bands are exactly the per-band test's (no test needed after it).
   bool exact() const { return group_ == 1; }
-  uint8_t& at(uint32_t piece) { return bytes_[piece]; }
-  uint8_t make(int first_band, int last_band) const {
-    return uint8_t((first_band / group_) << 4 | (last_band / group_));
+  // Constants on the boards (one-byte entries only).
+  int bits() const { return kExtras ? bits_ : 4; }
+  uint16_t unknown() const { return kExtras ? unknown_ : 0xF1; }
+  uint16_t no_band() const { return kExtras ? no_band_ : 0xF0; }
+  uint16_t every_band() const { return kExtras ? every_band_ : 0x0F; }
+  uint16_t get(uint32_t piece) const { return kExtras && wide_ ? wide_[piece] : narrow_[piece]; }
+  void set(uint32_t piece, uint16_t entry) {
+    if (kExtras && wide_) wide_[piece] = entry; else narrow_[piece] = uint8_t(entry);
   }
-  bool has(uint8_t b, int band) const {
-    const int g = band / group_;
-    return (b >> 4) <= g && g <= (b & 15);
+  uint16_t make(int first_band, int last_band) const {
+    return uint16_t((first_band / group_) << bits() | (last_band / group_));
+  }
+  // The band the walk is in (its group, computed once a band rather than once a piece).
+  void at_band(int band) { band_group_ = band / group_; }
+  // Whether the entry's bands hold the current band.
+  bool has(uint16_t entry) const {
+    return (entry >> bits()) <= band_group_ && band_group_ <= (entry & every_band());
   }
   // triangle_facing of triangle t (-1, 0 or 1), or kFacingUnknown.
   int facing(uint32_t t) const { return int((facing_[t >> 2] >> ((t & 3) * 2)) & 3) - 2; }
   void set_facing(uint32_t t, int facing) { facing_[t >> 2] = uint8_t(facing_[t >> 2] | (facing + 2) << ((t & 3) * 2)); }
 
  private:
-  uint8_t* bytes_ = nullptr;
+  uint8_t* narrow_ = nullptr;
+  uint16_t* wide_ = nullptr;
   uint8_t* facing_ = nullptr;
-  int group_ = 1;
+  bool active_ = false;
+  int bits_ = 4, group_ = 1, band_group_ = 0;
+  uint16_t no_band_ = 0, unknown_ = 0, every_band_ = 0;
 };
 
 // One frame: the BSP walked front to back once per band, each band's pyramid rebuilt in the same
@@ -689,8 +725,8 @@ class TilerFrame {
   bool subtree_hidden(uint32_t index, BspNode node);
   // Projects, culls and tiles one piece into the band's pyramid; false when the sink refused a write.
   bool draw_piece(uint32_t index);
-  // The plan byte of a piece facing the eye, from its world vertices.
-  uint8_t plan_bands(const Vec3i world[3]) const;
+  // The plan entry of a piece facing the eye, from its world vertices.
+  uint16_t plan_bands(const Vec3i world[3]) const;
   // Plans each texture's rows from the textured triangles' projected extent, and its first and last
   // piece in the BSP walk (TexturePlan).
   void plan_textures();
@@ -712,7 +748,6 @@ class TilerFrame {
   Pyramid pyramid_;
   HierTiler tiler_;
   BandRows band_;
-  int band_index_ = 0;
   BandPlan plan_;
   BandWriter* writer_ = nullptr;
   SampleFilter* cosine_;
@@ -770,14 +805,12 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
     PyramidLayout layout;
     band_layout(camera_.width, tiled_samples(options_, 0, out_.band_rows(), camera_.height), band_.factor, &layout);
     // The triangles' facing bits only when there is room for them as well (the microbit has room for
-    // the pieces' bytes alone).
+    // the pieces' entries alone).
     const size_t free = arena.size() - arena.used(), pyramid = Pyramid::arena_bytes(layout);
-    if (free >= pyramid + scene_.bsp_piece_count) {
-      uint8_t* pieces = arena.allocate_array<uint8_t>(scene_.bsp_piece_count);
-      const bool facing = free >= pyramid + tiler_plan_bytes(scene_);
-      uint8_t* facing_bytes = facing ? arena.allocate_array<uint8_t>(tiler_plan_bytes(scene_) - scene_.bsp_piece_count) : nullptr;
-      plan_.init(pieces, scene_.bsp_piece_count, facing_bytes, scene_.triangle_count, out_.band_count());
-    }
+    const size_t entries = BandPlan::entry_bytes(scene_.bsp_piece_count, out_.band_count());
+    if (free >= pyramid + entries)
+      plan_.init(arena, scene_.bsp_piece_count, free >= pyramid + entries + BandPlan::facing_bytes(scene_.triangle_count),
+                 scene_.triangle_count, out_.band_count());
   }
   for (int band = 0; band < out_.band_count(); ++band) {
     s = render_band(band, arena);
@@ -789,7 +822,7 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
 Status TilerFrame::render_band(int band, Arena& arena) {
   Status s = out_.start_band(band);
   if (!s.ok()) return s;
-  band_index_ = band;
+  if (plan_.active()) plan_.at_band(band);
   band_.top = out_.band_top(band);
   band_.samples = tiled_samples(options_, band_.top, out_.band_height(band), camera_.height);
   band_.rows = (band_.samples + band_.factor - 1) / band_.factor;  // with the halo's partial row
@@ -942,11 +975,11 @@ bool TilerFrame::subtree_hidden(uint32_t index, BspNode node) {
   return !tiler_.box_visible(box);  // false for an empty (off-screen) box too
 }
 
-uint8_t TilerFrame::plan_bands(const Vec3i world[3]) const {
+uint16_t TilerFrame::plan_bands(const Vec3i world[3]) const {
   int64_t first, last;
-  if (!triangle_row_span(view_, world, &first, &last)) return BandPlan::kEveryBand;
+  if (!triangle_row_span(view_, world, &first, &last)) return plan_.every_band();
   const int rows = out_.band_rows(), height = camera_.height;
-  if (first > last || last < 0 || first >= height) return BandPlan::kNoBand;
+  if (first > last || last < 0 || first >= height) return plan_.no_band();
   // A row at the top of a band is also in the halo of the band above (cosine filter).
   const int64_t halo_first = halo_samples(options_) > 0 ? first - 1 : first;
   return plan_.make(halo_first <= 0 ? 0 : int(halo_first) / rows, int(min_of<int64_t>(last, height - 1)) / rows);
@@ -954,9 +987,10 @@ uint8_t TilerFrame::plan_bands(const Vec3i world[3]) const {
 
 bool TilerFrame::draw_piece(uint32_t index) {
   writer_->clear_piece();
-  uint8_t* planned = plan_.active() ? &plan_.at(index) : nullptr;
-  const bool known = planned && *planned != BandPlan::kUnknown;
-  if (known && !plan_.has(*planned, band_index_)) return true;  // culled, or not in this band
+  const bool planned = plan_.active();
+  const uint16_t entry = planned ? plan_.get(index) : 0;
+  const bool known = planned && entry != plan_.unknown();
+  if (known && !plan_.has(entry)) return true;  // culled, or not in this band
   const BspPiece piece = bsp_piece(scene_, index);
   const Triangle tri = triangle_at(scene_, piece.triangle);
   const Material& mat = scene_.materials[scene_.batches[tri.batch].material];
@@ -981,7 +1015,7 @@ bool TilerFrame::draw_piece(uint32_t index) {
     if (shared) plan_.set_facing(piece.triangle, facing);
   }
   if (facing == 0 || (facing < 0 && !mat.double_sided)) {
-    if (planned) *planned = BandPlan::kNoBand;
+    if (planned) plan_.set(index, plan_.no_band());
     return true;
   }
   Vec3i split_world[3];
@@ -989,8 +1023,9 @@ bool TilerFrame::draw_piece(uint32_t index) {
     for (int i = 0; i < 3; ++i) split_world[i] = vertex_world(scene_, tri.batch, piece.v[i]);
   const Vec3i* world = split ? split_world : whole();
   if (planned && !known) {
-    *planned = plan_bands(world);
-    if (!plan_.has(*planned, band_index_)) return true;
+    const uint16_t bands = plan_bands(world);
+    plan_.set(index, bands);
+    if (!plan_.has(bands)) return true;
   }
   // Outside this band: skipped before projecting (most pieces, with many bands); an exact plan has
   // answered that already.
@@ -1029,7 +1064,9 @@ bool TilerFrame::draw_piece(uint32_t index) {
 
 }  // namespace
 
-size_t tiler_plan_bytes(const Scene& scene) { return BandPlan::bytes(scene.bsp_piece_count, scene.triangle_count); }
+size_t tiler_plan_bytes(const Scene& scene, int bands) {
+  return BandPlan::entry_bytes(scene.bsp_piece_count, bands) + BandPlan::facing_bytes(scene.triangle_count);
+}
 
 size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
   PyramidLayout layout;

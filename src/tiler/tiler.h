@@ -17,12 +17,12 @@ class SampleFilter;  // tiler/filter.h
 
 // The least arena the tiler needs (render() checks it).
 size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
-// Arena bytes beyond tiler_arena_bytes with which a frame of several bands plans them once (one byte
-// a BSP piece: each piece's facing test and band range are worked out once, not once per band; and two
-// bits a triangle: its facing, tested once for all the pieces the BSP split it into). The tiler uses
-// them when the arena has them free (the pieces' bytes alone when only those fit); the image is the
-// same either way.
-size_t tiler_plan_bytes(const Scene& scene);
+// Arena bytes beyond tiler_arena_bytes with which a frame of `bands` bands plans them once (one entry
+// a BSP piece, a byte up to 16 bands and two beyond: each piece's facing test and band range are worked
+// out once, not once per band; and two bits a triangle: its facing, tested once for all the pieces the
+// BSP split it into; on 32-bit targets a byte a piece alone). The tiler uses them when the arena has
+// them free (the pieces' entries alone when only those fit); the image is the same either way.
+size_t tiler_plan_bytes(const Scene& scene, int bands);
 // cosine: the cosine-hump filter to use when options.filter asks for it (a CosineFilter); null leaves
 // it out of the image (such a render is Unsupported).
 Status tiler_render(const Scene& scene, const Camera& camera, const RenderOptions& options,
