@@ -2,6 +2,8 @@
 // described in docs/scanline.md; this file follows the paper's sections in order.
 #include "scanline/scanline.h"
 
+#include <string.h>
+
 #include "core/band.h"
 #include "scanline/internal.h"
 #include "scanline/sort.h"
@@ -1158,18 +1160,12 @@ struct Renderer {
           if (varying) {
             for (int32_t x = 0; x < s.width; ++x) { keep_surface[x] = 0; keep_rgb[x] &= ~kForce; }
           } else {  // kForce is never read when surfaces have one colour
-            clear_words(keep_surface, s.width);
+            memset(keep_surface, 0, size_t(s.width) * sizeof(keep_surface[0]));
           }
         }
       }
     }
     return out.end();
-  }
-
-  // n words set to 0, with the pointer and count in locals: a store through the uint32_t array may
-  // alias the int32_t width, so a loop over members would reload it at every word.
-  static void clear_words(uint32_t* words, int32_t n) {
-    for (int32_t i = 0; i < n; ++i) words[i] = 0;
   }
 
   // Packs a finished pixel row into its band; the band leaves when its last row is in.

@@ -248,22 +248,21 @@ void piece_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexe
   }
   const int shifts[2] = {bits + 16 - p.size_bits[0], bits + 16 - p.size_bits[1]};
   int64_t a[2] = {au, av}, s[2] = {su, sv};
-  const int shift = common_shift(a, s, shifts), shift_u = shift, shift_v = shift;
+  const int shift = common_shift(a, s, shifts);
   au = a[0], av = a[1];
-  const int64_t step_u = s[0], step_v = s[1];
   if (Repeat) {
     const int32_t mask_u = int32_t(t.width) - 1, mask_v = int32_t(t.height) - 1;
     if (after == 0xFFFFFF) {
-      for (int32_t i = 0; i < n; ++i, au += step_u, av += step_v)
-        out[i] = fetch(int32_t(au >> shift_u) & mask_u, int32_t(av >> shift_v) & mask_v);
+      for (int32_t i = 0; i < n; ++i, au += s[0], av += s[1])
+        out[i] = fetch(int32_t(au >> shift) & mask_u, int32_t(av >> shift) & mask_v);
       return;
     }
-    for (int32_t i = 0; i < n; ++i, au += step_u, av += step_v)
-      out[i] = modulate_texel(fetch(int32_t(au >> shift_u) & mask_u, int32_t(av >> shift_v) & mask_v), after);
+    for (int32_t i = 0; i < n; ++i, au += s[0], av += s[1])
+      out[i] = modulate_texel(fetch(int32_t(au >> shift) & mask_u, int32_t(av >> shift) & mask_v), after);
     return;
   }
-  for (int32_t i = 0; i < n; ++i, au += step_u, av += step_v) {
-    const int32_t x = wrap(au >> shift_u, t.width, t.wrap_s), y = wrap(av >> shift_v, t.height, t.wrap_t);
+  for (int32_t i = 0; i < n; ++i, au += s[0], av += s[1]) {
+    const int32_t x = wrap(au >> shift, t.width, t.wrap_s), y = wrap(av >> shift, t.height, t.wrap_t);
     out[i] = modulate_texel(fetch(x, y), after);
   }
 }

@@ -103,6 +103,16 @@ struct RandomTexture {
   }
 };
 
+// The planes both renderers map case c with, at the segment bound of the texture's filter.
+ml::TexturePlanes planes_for(const Case& c, const ml::TextureTexels& t) {
+  const int error_bits = t.filter == uint8_t(ml::TextureFilter::Bilinear) ? ml::kTextureAffineErrorBitsBilinear
+                                                                          : ml::kTextureAffineErrorBitsNearest;
+  ml::TexturePlanes planes;
+  ml::make_texture_planes(c.view, c.world, c.uv, 1, ml::kSubpixelHalf, ml::kSubpixelHalf, c.width, c.height,
+                          error_bits, &planes);
+  return planes;
+}
+
 TEST(TextureMapping, RowsGiveTheColoursSampleBySample) {
   std::mt19937 rng(7);
   const ml::TexelFormat formats[] = {ml::TexelFormat::Rgb565, ml::TexelFormat::Palette8, ml::TexelFormat::Grey4};
@@ -111,12 +121,7 @@ TEST(TextureMapping, RowsGiveTheColoursSampleBySample) {
     const Case c = random_case(rng);
     const RandomTexture tex(rng, formats[n % 3], c.width, c.height);
     const ml::Pixel colour = n % 4 == 0 ? 0xFFFFFF : ml::Pixel(rng() & 0xFFFFFF);
-    const int error_bits = tex.t.filter == uint8_t(ml::TextureFilter::Bilinear) ? ml::kTextureAffineErrorBitsBilinear
-                                                                                  : ml::kTextureAffineErrorBitsNearest;
-    ml::TexturePlanes rows, one;
-    ml::make_texture_planes(c.view, c.world, c.uv, 1, ml::kSubpixelHalf, ml::kSubpixelHalf, c.width, c.height,
-                            error_bits, &rows);
-    one = rows;
+    ml::TexturePlanes rows = planes_for(c, tex.t), one = rows;
     std::vector<ml::Pixel> tinted(ml::kTexelLutEntries), white(ml::kTexelLutEntries);
     ml::make_texel_lut(tex.t, tex.bytes.data(), colour, tinted.data());
     ml::make_texel_lut(tex.t, tex.bytes.data(), 0xFFFFFF, white.data());
@@ -161,12 +166,7 @@ TEST(TextureMapping, BlocksOfRowsGiveTheColoursSampleBySample) {
       for (auto& uv : c.uv) uv[0] = int32_t(rng() % 65536), uv[1] = int32_t(rng() % 65536);
     const RandomTexture tex(rng, formats[n % 3], c.width, c.height);
     const ml::Pixel colour = n % 4 == 0 ? 0xFFFFFF : ml::Pixel(rng() & 0xFFFFFF);
-    const int error_bits = tex.t.filter == uint8_t(ml::TextureFilter::Bilinear) ? ml::kTextureAffineErrorBitsBilinear
-                                                                                  : ml::kTextureAffineErrorBitsNearest;
-    ml::TexturePlanes blocks, one;
-    ml::make_texture_planes(c.view, c.world, c.uv, 1, ml::kSubpixelHalf, ml::kSubpixelHalf, c.width, c.height,
-                            error_bits, &blocks);
-    one = blocks;
+    ml::TexturePlanes blocks = planes_for(c, tex.t), one = blocks;
     std::vector<ml::TextureSegment> segment_rows(16);
     ml::use_segment_rows(&blocks, segment_rows.data(), 4);
     std::vector<ml::Pixel> lut(ml::kTexelLutEntries);
