@@ -346,6 +346,7 @@ class BandWriter : public CoverageWriter {
 // the classification is ambiguous (slivers whose vertices are all near one edge) the piece is
 // tiled as it is. The box grows by one pixel for the sliver.
 bool is_split_piece(const BspPiece& piece, const Triangle& tri) {
+  if (piece.v[0] == tri.v[0] && piece.v[1] == tri.v[1] && piece.v[2] == tri.v[2]) return false;  // most pieces
   for (int i = 0; i < 3; ++i)
     if (piece.v[i] != tri.v[0] && piece.v[i] != tri.v[1] && piece.v[i] != tri.v[2]) return true;
   return false;
@@ -727,7 +728,8 @@ class TilerFrame {
   // uncovered (or the subtree has no pieces).
   bool subtree_hidden(uint32_t index, BspNode node);
   // Projects, culls and tiles one piece into the band's pyramid; false when the sink refused a write.
-  bool draw_piece(uint32_t index);
+  // entry: the piece's plan entry (unknown without the plan), in this band or unknown.
+  bool draw_piece(uint32_t index, uint16_t entry);
   // The plan entry of a piece facing the eye, from its world and view-space vertices.
   uint16_t plan_bands(const Vec3i world[3], const ViewTriangle& view) const;
   // The box of the samples a projected part can cover (no edges yet).
@@ -917,7 +919,8 @@ Status TilerFrame::walk_bsp() {
   // child replaces its parent's frame, so the stack never holds more than the path.
   const TriageMask& root = pyramid_.mask(0, 0, 0);
   uint32_t pieces_done = 0, visits = 0;
-  const uint32_t cull_min = plan_.active() ? kCullMinPiecesPlanned : kCullMinPieces;
+  const bool planned = plan_.active();
+  const uint32_t cull_min = planned ? kCullMinPiecesPlanned : kCullMinPieces;
   size_t sp = 0;
   stack_[sp++] = 0;
   while (sp > 0 && root.c != ~uint64_t(0)) {
@@ -944,9 +947,17 @@ Status TilerFrame::walk_bsp() {
       }
       continue;
     }
-    for (uint32_t p = node.first_piece; p < node.first_piece + node.piece_count; ++p) {
+    const uint32_t end = node.first_piece + node.piece_count;
+    for (uint32_t p = node.first_piece; p < end; ++p) {
+      // Most visits, with the plan, end at the piece's entry: culled, or not in this band.
+      const uint16_t entry = planned ? plan_.get(p) : plan_.unknown();
+      if (entry != plan_.unknown() && !plan_.has(entry)) {
+        ++pieces_done;
+        ++st_->triangles_culled;
+        continue;
+      }
       texture_plan_.at_piece(pieces_done++);
-      if (!draw_piece(p)) return error(StatusCode::SinkFailed, "sink refused a write");
+      if (!draw_piece(p, entry)) return error(StatusCode::SinkFailed, "sink refused a write");
       if (writer_->wrote_piece()) ++st_->triangles_drawn; else ++st_->triangles_culled;
     }
     if (far != kNone) f = far; else --sp;
@@ -1019,12 +1030,10 @@ void TilerFrame::part_box(const ScreenTriangle& part, ConvexPoly* poly) const {
   sample_box(min_x, min_y, max_x, max_y, band_.factor, camera_.width, camera_.height, jittered(options_), poly);
 }
 
-bool TilerFrame::draw_piece(uint32_t index) {
+bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
   writer_->clear_piece();
   const bool planned = plan_.active();
-  const uint16_t entry = planned ? plan_.get(index) : 0;
-  const bool known = planned && entry != plan_.unknown();
-  if (known && !plan_.has(entry)) return true;  // culled, or not in this band
+  const bool known = entry != plan_.unknown();
   const BspPiece piece = bsp_piece(scene_, index);
   const Triangle tri = triangle_at(scene_, piece.triangle);
   const Material& mat = scene_.materials[scene_.batches[tri.batch].material];
