@@ -8,7 +8,7 @@
 #               emu:ssd0323 --zoom 4`, per renderer
 #   microbit    the Cortex-M0+ build's CRC-32 of its frame equals the host's
 #   render-on-qemu with its own camera and options (scanline and tiler, antialiased) equals `maskline render`
-#   every ELF   arm-none-eabi-nm shows no soft-float helper
+#   every ELF   arm-none-eabi-nm shows no soft-float helper; the board images' code and tables fit 96 KB
 # Usage: tests/firmware/run.sh BUILD
 # Output: one line per check, "ok NAME: ..." or "not ok NAME: reason"; work files in BUILD/firmware/run/.
 set -u
@@ -37,7 +37,7 @@ done
 if [ -n "$missing" ]; then
   for n in mps2-tiler-bytes mps2-scanline-bytes mps2-tiler-picture mps2-scanline-picture lm3s-tiler-oled \
     lm3s-scanline-oled m0plus-microbit-crc render-on-qemu render-on-qemu-tiler-aa render-on-qemu-textured-tiler \
-    render-on-qemu-textured-scanline no-soft-float; do
+    render-on-qemu-textured-scanline flash-budget no-soft-float; do
     not_ok "$n" "$missing"
   done
   exit 1
@@ -153,6 +153,20 @@ box_textured=/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.
 for r in tiler scanline; do
   render_on_qemu "render-on-qemu-textured-$r" "BoxTextured (texels read in place from flash) with the $r" "$box_textured" \
     --renderer $r --size 160x120
+done
+
+# ---- flash budget: code and tables of each board image -----------------------------------------------
+# Code, read-only data, the mask tables and .data's initial values must stay within 96 KB of flash
+# (docs/firmware.md, "Flash"), whatever the scene: the scene is flashed after them. The diagnostic
+# image with both renderers (mps2-an385-calls) is exempt.
+flash_budget=98304
+for elf in "$fw"/*.elf; do
+  image=$(basename "$elf" .elf)
+  [ "$image" = mps2-an385-calls ] && continue
+  bytes=$(arm-none-eabi-size -A "$elf" | awk '$1 == ".text" || $1 == ".ARM.exidx" || $1 == ".tables" || $1 == ".data" { n += $2 } END { print n + 0 }')
+  if [ "$bytes" -gt 0 ] && [ "$bytes" -le "$flash_budget" ]; then
+    ok "flash-budget $image" "code and tables $bytes of $flash_budget bytes ($((flash_budget - bytes)) left)"
+  else not_ok "flash-budget $image" "code and tables $bytes bytes, over the $flash_budget-byte budget"; fi
 done
 
 # ---- no soft-float helper in any ELF ------------------------------------------------------------------
