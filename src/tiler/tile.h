@@ -42,6 +42,15 @@ void poly_from_setup(const TriangleSetup& setup, ConvexPoly* out);
 void poly_in_samples(const ScreenTriangle& tri, const TriangleSetup& setup, int factor, int width,
                      int height, ConvexPoly* out, bool jittered = false);
 
+// The box of poly_in_samples alone, from a triangle's extent in subpixels (its vertices' smallest and
+// largest x and y): the samples it can cover, clipped to the screen; empty when min > max.
+void sample_box(int32_t min_x, int32_t min_y, int32_t max_x, int32_t max_y, int factor, int width, int height,
+                bool jittered, ConvexPoly* out);
+
+// The edges of poly_in_samples alone (setup_triangle's): a caller that rejects most polygons by their
+// box computes the edges of the others only.
+void poly_edges(const ScreenTriangle& tri, ConvexPoly* out);
+
 // Receives every block of samples that tiling (or the background pass) newly covers. Each sample is
 // handed over at most once per frame. Returning false aborts the frame.
 class CoverageWriter;

@@ -346,6 +346,7 @@ class BandWriter : public CoverageWriter {
 // the classification is ambiguous (slivers whose vertices are all near one edge) the piece is
 // tiled as it is. The box grows by one pixel for the sliver.
 bool is_split_piece(const BspPiece& piece, const Triangle& tri) {
+  if (piece.v[0] == tri.v[0] && piece.v[1] == tri.v[1] && piece.v[2] == tri.v[2]) return false;  // most pieces
   for (int i = 0; i < 3; ++i)
     if (piece.v[i] != tri.v[0] && piece.v[i] != tri.v[1] && piece.v[i] != tri.v[2]) return true;
   return false;
@@ -492,10 +493,11 @@ struct BandRows {
   int samples = 0;        // sample rows tiled: rows * factor, or the band's own and a halo (tiled_samples)
 
   // The band's part of a screen-space polygon's box (samples) in band rows, in box's box (its edges
-  // untouched); false when the polygon has no row there.
+  // untouched); false when the polygon has no sample there.
   bool clip_box(const ConvexPoly& poly, ConvexPoly* box) const {
     const int first = top * factor, count = samples;
-    if (poly.max_y < first || poly.min_y >= first + count || poly.min_x > poly.max_x) return false;
+    if (poly.max_y < first || poly.min_y >= first + count || poly.min_x > poly.max_x || poly.min_y > poly.max_y)
+      return false;
     box->min_x = poly.min_x;
     box->max_x = poly.max_x;
     box->min_y = max_of(poly.min_y - first, 0);
@@ -630,7 +632,8 @@ class TexturePlan : public TextureNextUse {
 
 // The band plan, made when the arena has room for one entry a BSP piece and two bits a triangle
 // (tiler_plan_bytes): the bands each piece can reach, worked out on its first visit in any band
-// (triangle_row_span, exactly the per-band test) together with its facing. Later bands then skip the
+// together with its facing (its sample box when projection does not clip it, else triangle_row_span,
+// exactly the per-band row test). Later bands then skip the
 // piece from its entry, without reading its vertices, and never repeat its facing test; pieces the walk
 // never reaches cost nothing. An entry holds the first and last band group: a byte of two 4-bit groups
 // for at most 16 bands, else two bytes of 8-bit groups (bytes grouping 1024x768's 48 bands by three left
@@ -725,9 +728,12 @@ class TilerFrame {
   // uncovered (or the subtree has no pieces).
   bool subtree_hidden(uint32_t index, BspNode node);
   // Projects, culls and tiles one piece into the band's pyramid; false when the sink refused a write.
-  bool draw_piece(uint32_t index);
-  // The plan entry of a piece facing the eye, from its world vertices.
-  uint16_t plan_bands(const Vec3i world[3]) const;
+  // entry: the piece's plan entry (unknown without the plan), in this band or unknown.
+  bool draw_piece(uint32_t index, uint16_t entry);
+  // The plan entry of a piece facing the eye, from its world and view-space vertices.
+  uint16_t plan_bands(const Vec3i world[3], const ViewTriangle& view) const;
+  // The box of the samples a projected part can cover (no edges yet).
+  void part_box(const ScreenTriangle& part, ConvexPoly* poly) const;
   // Plans each texture's rows from the textured triangles' projected extent, and its first and last
   // piece in the BSP walk (TexturePlan).
   void plan_textures();
@@ -913,7 +919,8 @@ Status TilerFrame::walk_bsp() {
   // child replaces its parent's frame, so the stack never holds more than the path.
   const TriageMask& root = pyramid_.mask(0, 0, 0);
   uint32_t pieces_done = 0, visits = 0;
-  const uint32_t cull_min = plan_.active() ? kCullMinPiecesPlanned : kCullMinPieces;
+  const bool planned = plan_.active();
+  const uint32_t cull_min = planned ? kCullMinPiecesPlanned : kCullMinPieces;
   size_t sp = 0;
   stack_[sp++] = 0;
   while (sp > 0 && root.c != ~uint64_t(0)) {
@@ -940,9 +947,17 @@ Status TilerFrame::walk_bsp() {
       }
       continue;
     }
-    for (uint32_t p = node.first_piece; p < node.first_piece + node.piece_count; ++p) {
+    const uint32_t end = node.first_piece + node.piece_count;
+    for (uint32_t p = node.first_piece; p < end; ++p) {
+      // Most visits, with the plan, end at the piece's entry: culled, or not in this band.
+      const uint16_t entry = planned ? plan_.get(p) : plan_.unknown();
+      if (entry != plan_.unknown() && !plan_.has(entry)) {
+        ++pieces_done;
+        ++st_->triangles_culled;
+        continue;
+      }
       texture_plan_.at_piece(pieces_done++);
-      if (!draw_piece(p)) return error(StatusCode::SinkFailed, "sink refused a write");
+      if (!draw_piece(p, entry)) return error(StatusCode::SinkFailed, "sink refused a write");
       if (writer_->wrote_piece()) ++st_->triangles_drawn; else ++st_->triangles_culled;
     }
     if (far != kNone) f = far; else --sp;
@@ -976,9 +991,27 @@ bool TilerFrame::subtree_hidden(uint32_t index, BspNode node) {
   return !tiler_.box_visible(box);  // false for an empty (off-screen) box too
 }
 
-uint16_t TilerFrame::plan_bands(const Vec3i world[3]) const {
+uint16_t TilerFrame::plan_bands(const Vec3i world[3], const ViewTriangle& view) const {
   int64_t first, last;
-  if (!triangle_row_span(view_, world, &first, &last)) return plan_.every_band();
+  if (view.unclipped) {
+    // Unclipped, the piece's one part has these vertex positions: the bands its sample box reaches are
+    // the only ones where it can be tiled (none when it holds no sample, on screen or at all).
+    int64_t min_x = view.ox[0], max_x = min_x, min_y = view.oy[0], max_y = min_y;
+    for (int i = 1; i < 3; ++i) {
+      min_x = min_of(min_x, view.ox[i]);
+      max_x = max_of(max_x, view.ox[i]);
+      min_y = min_of(min_y, view.oy[i]);
+      max_y = max_of(max_y, view.oy[i]);
+    }
+    ConvexPoly box;
+    sample_box(int32_t(view_.center_x + min_x), int32_t(view_.center_y + min_y), int32_t(view_.center_x + max_x),
+               int32_t(view_.center_y + max_y), band_.factor, camera_.width, camera_.height, jittered(options_), &box);
+    if (box.min_x > box.max_x || box.min_y > box.max_y) return plan_.no_band();
+    first = box.min_y / band_.factor;
+    last = box.max_y / band_.factor;
+  } else if (!triangle_row_span(view_, world, &first, &last)) {
+    return plan_.every_band();
+  }
   const int rows = out_.band_rows(), height = camera_.height;
   if (first > last || last < 0 || first >= height) return plan_.no_band();
   // A row at the top of a band is also in the halo of the band above (cosine filter).
@@ -986,12 +1019,21 @@ uint16_t TilerFrame::plan_bands(const Vec3i world[3]) const {
   return plan_.make(halo_first <= 0 ? 0 : int(halo_first) / rows, int(min_of<int64_t>(last, height - 1)) / rows);
 }
 
-bool TilerFrame::draw_piece(uint32_t index) {
+void TilerFrame::part_box(const ScreenTriangle& part, ConvexPoly* poly) const {
+  int32_t min_x = part.v[0].x, max_x = min_x, min_y = part.v[0].y, max_y = min_y;
+  for (int i = 1; i < 3; ++i) {
+    min_x = min_of(min_x, part.v[i].x);
+    max_x = max_of(max_x, part.v[i].x);
+    min_y = min_of(min_y, part.v[i].y);
+    max_y = max_of(max_y, part.v[i].y);
+  }
+  sample_box(min_x, min_y, max_x, max_y, band_.factor, camera_.width, camera_.height, jittered(options_), poly);
+}
+
+bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
   writer_->clear_piece();
   const bool planned = plan_.active();
-  const uint16_t entry = planned ? plan_.get(index) : 0;
-  const bool known = planned && entry != plan_.unknown();
-  if (known && !plan_.has(entry)) return true;  // culled, or not in this band
+  const bool known = entry != plan_.unknown();
   const BspPiece piece = bsp_piece(scene_, index);
   const Triangle tri = triangle_at(scene_, piece.triangle);
   const Material& mat = scene_.materials[scene_.batches[tri.batch].material];
@@ -1023,8 +1065,13 @@ bool TilerFrame::draw_piece(uint32_t index) {
   if (split)
     for (int i = 0; i < 3; ++i) split_world[i] = vertex_world(scene_, tri.batch, piece.v[i]);
   const Vec3i* world = split ? split_world : whole();
+  // The piece is transformed once: for its plan entry (first visit) and its projection.
+  ViewTriangle view;
+  bool viewed = false;
   if (planned && !known) {
-    const uint16_t bands = plan_bands(world);
+    view_triangle(view_, world, &view);
+    viewed = true;
+    const uint16_t bands = plan_bands(world, view);
     plan_.set(index, bands);
     if (!plan_.has(bands)) return true;
   }
@@ -1033,24 +1080,23 @@ bool TilerFrame::draw_piece(uint32_t index) {
   if (band_.rows < camera_.height && !(planned && plan_.exact()) &&
       triangle_outside_rows(view_, world, band_.top, band_.top + band_.rows - 1))
     return true;
+  if (!viewed) view_triangle(view_, world, &view);
   ScreenTriangle parts[kMaxClipTriangles];
-  const int n = project_triangle(view_, world, facing, parts, false);  // the tiler reads no depths
+  const int n = project_triangle(view_, view, facing, parts, false);  // the tiler reads no depths
   writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0);
   for (int i = 0; i < n; ++i) {
     const int f = band_.factor;
-    TriangleSetup setup;
-    setup_triangle(parts[i], camera_.width, camera_.height, &setup);
     ConvexPoly poly;
-    poly_in_samples(parts[i], setup, f, camera_.width, camera_.height, &poly, jittered(options_));
-    ConvexPoly box;  // the band's part of the box alone (no edges copied)
-    if (!band_.clip_box(poly, &box)) continue;
+    part_box(parts[i], &poly);
+    ConvexPoly box;  // the band's part of the box alone
+    if (!band_.clip_box(poly, &box)) continue;  // a third of the parts: their edges are never needed
+    poly_edges(parts[i], &poly);
     if (n == 1 && split && tiler_.box_visible(box)) {
       ScreenTriangle whole_parts[kMaxClipTriangles];
       if (project_triangle(view_, whole(), facing, whole_parts, false) == 1) {
-        TriangleSetup whole_setup;
-        setup_triangle(whole_parts[0], camera_.width, camera_.height, &whole_setup);
         ConvexPoly whole_poly;
-        poly_in_samples(whole_parts[0], whole_setup, f, camera_.width, camera_.height, &whole_poly, jittered(options_));
+        part_box(whole_parts[0], &whole_poly);
+        poly_edges(whole_parts[0], &whole_poly);
         clip_to_triangle(view_, parts[0], whole_poly, f, camera_.width * f, camera_.height * f, &poly);
       }
     }

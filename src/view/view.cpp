@@ -236,38 +236,36 @@ int project_triangle(const View& view, const Vec3i world[3], ScreenTriangle out[
   return project_triangle(view, world, triangle_facing(view, world), out);
 }
 
-namespace {
-
-// View-space points of a world triangle; true when all three lie in front of the near plane and project
-// inside the guard band (ox, oy then hold their screen offsets): nothing to clip, the common case. (A
-// vertex this keeps but the clip planes would cut lies on the guard band, thousands of pixels off
-// screen, so the two tests cannot disagree on any visible sample.)
-bool unclipped(const View& view, const Vec3i world[3], Vec3i p[3], int64_t ox[3], int64_t oy[3]) {
+// View-space points of a world triangle; unclipped when all three lie in front of the near plane and
+// project inside the guard band (ox, oy then hold their screen offsets): nothing to clip, the common
+// case. (A vertex this keeps but the clip planes would cut lies on the guard band, thousands of pixels
+// off screen, so the two tests cannot disagree on any visible sample.)
+void view_triangle(const View& view, const Vec3i world[3], ViewTriangle* out) {
+  Vec3i* p = out->p;
+  out->unclipped = false;
   bool in_front = true;
   for (int i = 0; i < 3; ++i) {
     p[i] = Vec3i{view_coordinate(view, view.right, world[i]), view_coordinate(view, view.down, world[i]),
                  view_coordinate(view, view.forward, world[i])};
     in_front = in_front && p[i].z >= view.near;
   }
-  if (!in_front) return false;
+  if (!in_front) return;
   const int64_t guard = int64_t(kGuardBandPixels) << kSubpixelBits;
   for (int i = 0; i < 3; ++i) {
-    ox[i] = project_offset(view, p[i].x, p[i].z);
-    oy[i] = project_offset(view, p[i].y, p[i].z);
-    if (!within(ox[i], guard) || !within(oy[i], guard)) return false;
+    out->ox[i] = project_offset(view, p[i].x, p[i].z);
+    out->oy[i] = project_offset(view, p[i].y, p[i].z);
+    if (!within(out->ox[i], guard) || !within(out->oy[i], guard)) return;
   }
-  return true;
+  out->unclipped = true;
 }
 
-}  // namespace
-
 bool project_unclipped_positions(const View& view, const Vec3i world[3], int32_t x[3], int32_t y[3]) {
-  Vec3i p[3];
-  int64_t ox[3], oy[3];
-  if (!unclipped(view, world, p, ox, oy)) return false;
+  ViewTriangle t;
+  view_triangle(view, world, &t);
+  if (!t.unclipped) return false;
   for (int i = 0; i < 3; ++i) {
-    x[i] = int32_t(view.center_x + ox[i]);
-    y[i] = int32_t(view.center_y + oy[i]);
+    x[i] = int32_t(view.center_x + t.ox[i]);
+    y[i] = int32_t(view.center_y + t.oy[i]);
   }
   return true;
 }
@@ -275,18 +273,23 @@ bool project_unclipped_positions(const View& view, const Vec3i world[3], int32_t
 int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenTriangle out[kMaxClipTriangles],
                      bool depths) {
   if (facing == 0) return 0;  // seen edge-on: covers nothing
-  Vec3i p[3];
-  int64_t ox[3], oy[3];
-  const bool fast = unclipped(view, world, p, ox, oy);
+  ViewTriangle t;
+  view_triangle(view, world, &t);
+  return project_triangle(view, t, facing, out, depths);
+}
+
+int project_triangle(const View& view, const ViewTriangle& tri, int facing, ScreenTriangle out[kMaxClipTriangles],
+                     bool depths) {
+  if (facing == 0) return 0;  // seen edge-on: covers nothing
   ClipVertex buffers[2][kMaxPolygon];
   ClipVertex* poly = buffers[0];
   for (int i = 0; i < 3; ++i) {
-    poly[i].p = p[i];
+    poly[i].p = tri.p[i];
     poly[i].weight[0] = poly[i].weight[1] = poly[i].weight[2] = 0;
     poly[i].weight[i] = kWeightOne;
   }
-  if (fast) {
-    for (int i = 0; i < 3; ++i) out[0].v[i] = make_screen_vertex(view, poly[i], ox[i], oy[i], depths);
+  if (tri.unclipped) {
+    for (int i = 0; i < 3; ++i) out[0].v[i] = make_screen_vertex(view, poly[i], tri.ox[i], tri.oy[i], depths);
     out[0].front_facing = facing > 0;
     return orient(&out[0]) ? 1 : 0;
   }

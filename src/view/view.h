@@ -90,6 +90,22 @@ int project_triangle(const View& view, const Vec3i world[3], ScreenTriangle out[
 int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenTriangle out[kMaxClipTriangles],
                      bool depths = true);
 
+// A world triangle in view space, each vertex transformed once, and, when project_triangle would not
+// clip it (every vertex in front of the near plane and inside the guard band), its vertices' screen
+// offsets from the centre (subpixels) exactly as project_triangle rounds them. A caller that first
+// looks at where a triangle lands (a band plan, a row test) and then projects it pays for one
+// transform.
+struct ViewTriangle {
+  Vec3i p[3];               // view space, 1/16 world unit
+  int64_t ox[3], oy[3];     // valid when unclipped
+  bool unclipped;
+};
+void view_triangle(const View& view, const Vec3i world[3], ViewTriangle* out);
+
+// project_triangle of the world triangle that view_triangle transformed.
+int project_triangle(const View& view, const ViewTriangle& tri, int facing, ScreenTriangle out[kMaxClipTriangles],
+                     bool depths = true);
+
 // The screen positions (subpixels) project_triangle gives a triangle it does not clip, before it orders
 // them (area2 > 0) and without depths or weights: a cheap first look for callers that may drop the
 // triangle. False when project_triangle would clip it (a vertex behind the near plane or outside the

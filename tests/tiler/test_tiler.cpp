@@ -96,6 +96,42 @@ TEST(TilerMask, CompositingFollowsTable41) {
   }
 }
 
+// The tiler computes a part's sample box first and its edges only when the box holds a sample of the
+// band: the two together are poly_in_samples (setup_triangle's edges, the box of the samples), for
+// every sampling, on triangles on, beside and far off the screen, with vertices on sample centres.
+TEST(TilerTile, SampleBoxAndEdgesArePolyInSamples) {
+  std::mt19937 rng(77);
+  const int pw = 20, ph = 12;
+  for (int factor : {1, 2, 4, 8})
+    for (bool jittered : {false, true}) {
+      if (jittered && factor == 1) continue;
+      for (int i = 0; i < 3000; ++i) {
+        ml::ScreenTriangle t;
+        const int span = (i % 3 == 0) ? 9000 : (i % 3 == 1) ? 30 : 1;
+        if (!tiler_test::random_triangle(rng, pw, ph, span, &t)) continue;
+        ml::TriangleSetup s;
+        ml::setup_triangle(t, pw, ph, &s);
+        ml::ConvexPoly want;
+        ml::poly_in_samples(t, s, factor, pw, ph, &want, jittered);
+        ml::ConvexPoly got;
+        ml::sample_box(std::min({t.v[0].x, t.v[1].x, t.v[2].x}), std::min({t.v[0].y, t.v[1].y, t.v[2].y}),
+                       std::max({t.v[0].x, t.v[1].x, t.v[2].x}), std::max({t.v[0].y, t.v[1].y, t.v[2].y}), factor,
+                       pw, ph, jittered, &got);
+        ml::poly_edges(t, &got);
+        ASSERT_EQ(got.min_x, want.min_x) << i;
+        ASSERT_EQ(got.min_y, want.min_y) << i;
+        ASSERT_EQ(got.max_x, want.max_x) << i;
+        ASSERT_EQ(got.max_y, want.max_y) << i;
+        ASSERT_EQ(got.n, want.n);
+        for (int k = 0; k < got.n; ++k) {
+          ASSERT_EQ(got.edge[k].a, want.edge[k].a);
+          ASSERT_EQ(got.edge[k].b, want.edge[k].b);
+          ASSERT_EQ(got.edge[k].c, want.edge[k].c);
+        }
+      }
+    }
+}
+
 // S1, S3, S4, exactness: random triangles tiled front to back give each sample to the first
 // triangle (in order) whose src/view coverage contains it, written exactly once; S2/S5 after the
 // background: every sample written once and the root covered.
