@@ -236,6 +236,46 @@ TEST(TextureMapping, RowsGiveTheColoursSampleBySample) {
   EXPECT_GT(compared, 100000u);
 }
 
+// Nearest runs whose texel indices cross the texture's edges a few times (coordinates over a few
+// periods, long runs), for every pair of wrap modes and both directions along the row: the runs cut
+// at the wrap's cells give the colours sample by sample.
+TEST(TextureMapping, NearestRunsAcrossTextureEdgesGiveTheColoursSampleBySample) {
+  std::mt19937 rng(13);
+  const ml::TexelFormat formats[] = {ml::TexelFormat::Rgb565, ml::TexelFormat::Palette8, ml::TexelFormat::Grey4};
+  size_t compared = 0;
+  for (int n = 0; n < 162; ++n) {
+    Case c = random_case(rng);
+    std::uniform_int_distribution<int32_t> uv(-2 * 65536, 3 * 65536);
+    for (auto& v : c.uv) v[0] = uv(rng), v[1] = uv(rng);
+    c.width = 1u << (2 + rng() % 5);
+    c.height = 1u << (2 + rng() % 5);
+    RandomTexture tex(rng, formats[n % 3], c.width, c.height);
+    tex.t.filter = uint8_t(ml::TextureFilter::Nearest);
+    tex.t.wrap_s = uint8_t(n / 3 % 3);
+    tex.t.wrap_t = uint8_t(n / 9 % 3);
+    const ml::Pixel colour = n % 2 ? 0xFFFFFF : ml::Pixel(rng() & 0xFFFFFF);
+    ml::TexturePlanes rows = planes_for(c, tex.t), one = rows;
+    std::vector<ml::Pixel> lut(ml::kTexelLutEntries);
+    ml::make_texel_lut(tex.t, tex.bytes.data(), colour, lut.data());
+    for (int32_t y = 5; y < 240; y += 29)
+      for (int32_t x = 0; x < 320;) {
+        const int32_t len = std::min<int32_t>(320 - x, 16 + int32_t(rng() % 120));
+        std::vector<ml::Pixel> got(size_t(len), 0);
+        ml::texture_row(rows, tex.t, tex.bytes.data(), lut.data(), colour, colour, x, y, len, got.data());
+        for (int32_t i = 0; i < len; ++i) {
+          int32_t at[2];
+          ml::texture_uv(one, x + i, y, at);
+          ASSERT_EQ(got[size_t(i)], ml::sample_texture(tex.t, tex.bytes.data(), at, colour))
+              << "case " << n << " sample " << x + i << "," << y << " wraps " << int(tex.t.wrap_s)
+              << int(tex.t.wrap_t) << " size " << c.width << "x" << c.height;
+          ++compared;
+        }
+        x += len;
+      }
+  }
+  EXPECT_GT(compared, 300000u);
+}
+
 // texture_rows as the tiler calls it: blocks of a few rows (segments kept per row), sample by sample
 // the same colours, for every format, wrap mode and filter, with coordinates across many texture
 // periods and within one (runs that need no wrapping).
