@@ -920,6 +920,8 @@ Status TilerFrame::walk_bsp() {
   const TriageMask& root = pyramid_.mask(0, 0, 0);
   uint32_t pieces_done = 0, visits = 0;
   const bool planned = plan_.active();
+  const BandPlan plan = plan_;
+  const uint16_t unknown = plan.unknown();
   const uint32_t cull_min = planned ? kCullMinPiecesPlanned : kCullMinPieces;
   size_t sp = 0;
   stack_[sp++] = 0;
@@ -947,19 +949,22 @@ Status TilerFrame::walk_bsp() {
       }
       continue;
     }
-    const uint32_t end = node.first_piece + node.piece_count;
-    for (uint32_t p = node.first_piece; p < end; ++p) {
-      // Most visits, with the plan, end at the piece's entry: culled, or not in this band.
-      const uint16_t entry = planned ? plan_.get(p) : plan_.unknown();
-      if (entry != plan_.unknown() && !plan_.has(entry)) {
-        ++pieces_done;
-        ++st_->triangles_culled;
+    // Most visits, with the plan, end at the piece's entry: culled, or not in this band. The entries
+    // are read through a copy of the plan, which the compiler keeps in registers (stores to the
+    // stats could alias the plan's members).
+    uint32_t skipped = 0;
+    for (uint32_t p = node.first_piece, end = p + node.piece_count; p < end; ++p) {
+      const uint16_t entry = planned ? plan.get(p) : unknown;
+      if (entry != unknown && !plan.has(entry)) {
+        ++skipped;
         continue;
       }
-      texture_plan_.at_piece(pieces_done++);
+      texture_plan_.at_piece(pieces_done + (p - node.first_piece));
       if (!draw_piece(p, entry)) return error(StatusCode::SinkFailed, "sink refused a write");
       if (writer_->wrote_piece()) ++st_->triangles_drawn; else ++st_->triangles_culled;
     }
+    pieces_done += node.piece_count;
+    st_->triangles_culled += skipped;
     if (far != kNone) f = far; else --sp;
   }
   // Once the root is covered every remaining piece is hidden.
@@ -1062,8 +1067,7 @@ bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
     return true;
   }
   Vec3i split_world[3];
-  if (split)
-    for (int i = 0; i < 3; ++i) split_world[i] = vertex_world(scene_, tri.batch, piece.v[i]);
+  if (split) vertices_world(scene_, tri.batch, piece.v, split_world);
   const Vec3i* world = split ? split_world : whole();
   // The piece is transformed once: for its plan entry (first visit) and its projection.
   ViewTriangle view;
