@@ -28,9 +28,9 @@ bool scaled_le(uint64_t l, int el, uint64_t r, int er) {
   return ((l + ((uint64_t(1) << d) - 1)) >> d) <= r;  // ceil(l / 2^d) <= r
 }
 
-// The length bits of the segment from exact ends s to e (kTextureSegmentBits down to 0): the longest
-// whose affine error bound (mapping.h) stays within 2^-error_bits texel on both axes.
-int segment_bits(const TexturePlanes& p, const ExactUv& s, const ExactUv& e) {
+// texture_segment_bits: the longest part whose affine error bound (mapping.h) stays within
+// 2^-error_bits texel on both axes, or within 2^-kTextureAffineShiftBits of the mean step.
+__attribute__((always_inline)) inline int segment_bits(const TexturePlanes& p, const ExactUv& s, const ExactUv& e) {
   if (!s.clean || !e.clean || (s.denom < 0) != (e.denom < 0)) return 0;
   uint64_t du = 0;  // the larger change, in Q16 texels (< 2^42)
   for (int k = 0; k < 2; ++k)
@@ -65,7 +65,8 @@ TextureSegment& segment_at(TexturePlanes& p, int32_t x, int32_t y) {
   sg.x = x;
   sg.y = y;
   sg.last_x = -1;
-  sg.bits = segment_bits(p, sg.ends[0], sg.ends[1]);
+  sg.bits = texture_segment_whole(p, sg.ends[0], sg.ends[1]) ? kTextureSegmentBits
+                                                              : segment_bits(p, sg.ends[0], sg.ends[1]);
   return sg;
 }
 
@@ -82,6 +83,8 @@ ExactUv exact_in(const TexturePlanes& p, TextureSegment& sg, int32_t x) {
 }
 
 }  // namespace
+
+int texture_segment_bits(const TexturePlanes& p, const ExactUv& s, const ExactUv& e) { return segment_bits(p, s, e); }
 
 void make_texture_planes(const View& view, const Vec3i world[3], const int32_t uv[3][2], int32_t den,
                          int32_t ox, int32_t oy, uint32_t width, uint32_t height, int error_bits,
@@ -119,6 +122,9 @@ void make_texture_planes(const View& view, const Vec3i world[3], const int32_t u
   out->size_bits[0] = log2_of(max_of(width, 1u));
   out->size_bits[1] = log2_of(max_of(height, 1u));
   out->error_bits = error_bits;
+  // texture_segment_whole: dd = L |a_0 + a_1 + a_2| (|a_i| < 2^36: below 2^51 with the factor).
+  static_assert(kTextureAffineShiftBits + kTextureSegmentBits == 8, "65 dd is for the test's 1/64 (mapping.h)");
+  out->whole_denom = 65 * (magnitude(out->a[0] + out->a[1] + out->a[2]) << kTextureSegmentBits);
   // Nothing cached yet (samples have y >= 0).
   out->rows = nullptr;
   out->row_mask = 0;

@@ -72,6 +72,7 @@ struct TexturePlanes {
   int32_t uv[3][2];           // the triangle's TEXCOORD_0, Q16.16
   int32_t size_bits[2];       // log2 of the texture's width and height: the error bound is in its texels
   int32_t error_bits;         // the affine error bound allowed: 2^-error_bits texel
+  uint64_t whole_denom;       // texture_segment_whole's threshold on |sum e_i| (65 dd)
   // Caches, so that drawing costs about one exact division a segment: the segments decided (one,
   // or one per row of a few rows for a renderer that draws blocks, use_segment_rows), the piece
   // last used.
@@ -94,6 +95,23 @@ void use_segment_rows(TexturePlanes* planes, TextureSegment* rows, int count_bit
 
 // The exact coordinates at lattice sample (X, Y) >= 0: sum uv_i e_i / sum e_i, floored.
 void exact_texture_uv(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out);
+
+// The length bits of the affine pieces of the segment between exact ends s and e, kTextureSegmentBits
+// down to 0: the error bound above, in 16-bit mantissas.
+int texture_segment_bits(const TexturePlanes& p, const ExactUv& s, const ExactUv& e);
+
+// A cheap test that the segment between exact ends s and e (kTextureSegment samples apart along a
+// row) is one affine piece, so that the bound need not be evaluated: when it holds,
+// texture_segment_bits gives kTextureSegmentBits. Along a row D = sum e_i changes by the same dd over
+// every segment (kTextureSegment times the sum of the planes' X coefficients), and the bound's
+// second test (1/8 of the mean step) holds at full length, whatever du, when both ends' |D| are at
+// least 65 dd: then dd max|D| <= min|D|^2 66 / 65^2 = min|D|^2 / 64.015, within the test's 1/64 with
+// room for its mantissas' rounding (relative 2^-15 each, (1 + 2^-15)^2 / (1 - 2^-15)^2 < 64.015 / 64).
+// Mild perspective passes it everywhere: the banded scene's segments all do.
+inline bool texture_segment_whole(const TexturePlanes& p, const ExactUv& s, const ExactUv& e) {
+  return s.clean && e.clean && (s.denom < 0) == (e.denom < 0) &&
+         min_of(magnitude(s.denom), magnitude(e.denom)) >= p.whole_denom;
+}
 
 // The affine piece holding lattice sample (x, y) >= 0 (the segment rules above).
 const TexturePiece& texture_piece(TexturePlanes& p, int32_t x, int32_t y);

@@ -84,6 +84,57 @@ TEST(TextureMapping, AffinePiecesStayWithinTheStatedBound) {
   EXPECT_GT(affine, samples / 4);  // most samples are interpolated, not divided
 }
 
+// texture_segment_whole (the cheap test that a segment is one affine piece) against the bound it
+// stands for: whenever it holds, texture_segment_bits gives a whole segment. Segments of random
+// triangles along rows, and ends whose |D| lies just above and below the test's 65 dd (both signs,
+// random triangles put the threshold at 37 to 48 bits, so that the bound's mantissas round).
+TEST(TextureMapping, WholeSegmentTestImpliesTheBound) {
+  std::mt19937 rng(20261201);
+  int whole = 0, near_whole = 0, cut_near = 0;
+  for (int n = 0; n < 300; ++n) {
+    const Case c = random_case(rng);
+    ml::TexturePlanes p;
+    ml::make_texture_planes(c.view, c.world, c.uv, 1, ml::kSubpixelHalf, ml::kSubpixelHalf, c.width, c.height,
+                            c.error_bits, &p);
+    for (int32_t y = 0; y < 240; y += 23)
+      for (int32_t x = 0; x < 320; x += ml::kTextureSegment) {
+        ml::ExactUv s, e;
+        ml::exact_texture_uv(p, x, y, &s);
+        ml::exact_texture_uv(p, x + ml::kTextureSegment, y, &e);
+        if (!ml::texture_segment_whole(p, s, e)) continue;
+        ++whole;
+        ASSERT_EQ(ml::texture_segment_bits(p, s, e), ml::kTextureSegmentBits) << "case " << n << " at " << x << "," << y;
+      }
+    // Ends with |D| around the threshold: D changes by dd = whole_denom / 65 from one to the other.
+    const uint64_t dd = p.whole_denom / 65;
+    if (dd == 0) continue;
+    for (int k = 0; k < 200; ++k) {
+      ml::ExactUv a{}, b{};
+      a.clean = b.clean = true;
+      for (int i = 0; i < 2; ++i) {
+        a.uv[i] = int32_t(rng());
+        b.uv[i] = int32_t(rng());
+      }
+      const uint64_t slack = dd < 4 ? 4 : dd / 4;
+      const uint64_t m = p.whole_denom - slack + std::uniform_int_distribution<uint64_t>(0, 2 * slack)(rng);
+      const int64_t sign = rng() % 2 ? 1 : -1;
+      a.denom = sign * int64_t(m);
+      b.denom = sign * int64_t(m + dd);
+      if (rng() % 2) std::swap(a, b);
+      const int bits = ml::texture_segment_bits(p, a, b);
+      if (ml::texture_segment_whole(p, a, b)) {
+        ++near_whole;
+        ASSERT_EQ(bits, ml::kTextureSegmentBits) << "case " << n << " |D| " << m << " dd " << dd;
+      } else if (bits < ml::kTextureSegmentBits) {
+        ++cut_near;
+      }
+    }
+  }
+  EXPECT_GT(whole, 1000);
+  EXPECT_GT(near_whole, 10000);
+  EXPECT_GT(cut_near, 10000);  // just under the threshold the bound does cut segments: the test is tight
+}
+
 // A texture of random bytes in format f (any bytes are valid: palette indices past the palette read
 // its last colour).
 struct RandomTexture {
