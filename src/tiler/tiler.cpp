@@ -696,9 +696,9 @@ class BandPlan {
   // 10.96 M instructions without them, 11.12 M with them.
   static constexpr bool kExtras = sizeof(void*) >= 8;
 
-  // Bytes of the entries (aligned for two-byte ones) and of the facing bits.
+  // Bytes of the entries (aligned for two-byte ones; none for a frame of one band) and of the facing bits.
   static size_t entry_bytes(uint32_t pieces, int bands) {
-    return kExtras && bands > 16 ? 2 * size_t(pieces) + 1 : size_t(pieces);
+    return bands < 2 ? 0 : kExtras && bands > 16 ? 2 * size_t(pieces) + 1 : size_t(pieces);
   }
   static size_t facing_bytes(uint32_t triangles) { return kExtras ? (size_t(triangles) + 3) / 4 : 0; }
   // Entries from the arena, and two bits a triangle with keep_facing (else the facing is not kept).
@@ -716,9 +716,14 @@ class BandPlan {
       narrow_ = arena.allocate_array<uint8_t>(pieces);
       if (narrow_) memset(narrow_, unknown(), pieces);  // a byte at a time took 5 instructions a piece
     }
-    facing_ = kExtras && keep_facing ? arena.allocate_array<uint8_t>(facing_bytes(triangles)) : nullptr;  // facing + 2, 0 = unknown
-    if (facing_) memset(facing_, 0, facing_bytes(triangles));
+    if (keep_facing) keep_facings(arena, triangles);
     active_ = narrow_ || wide_;
+  }
+  // The facing bits alone: a frame of one band visits each piece once, but the pieces of a split
+  // triangle still share its facing test.
+  void keep_facings(Arena& arena, uint32_t triangles) {
+    facing_ = kExtras ? arena.allocate_array<uint8_t>(facing_bytes(triangles)) : nullptr;  // facing + 2, 0 = unknown
+    if (facing_) memset(facing_, 0, facing_bytes(triangles));
   }
   bool active() const { return active_; }
   bool keeps_facing() const { return kExtras && facing_ != nullptr; }
@@ -853,16 +858,19 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
   }
   st_->bsp_nodes = scene_.bsp_node_count;
   st_->bsp_pieces = scene_.bsp_piece_count;
-  if (out_.band_count() > 1) {  // the plan, when the bands' pyramid still fits beside it
+  {  // the plan, when the bands' pyramid still fits beside it
     PyramidLayout layout;
     band_layout(camera_.width, tiled_samples(options_, 0, out_.band_rows(), camera_.height), band_.factor, &layout);
     // The triangles' facing bits only when there is room for them as well (the microbit has room for
-    // the pieces' entries alone).
+    // the pieces' entries alone); with one band, the facing bits alone.
     const size_t free = arena.size() - arena.used(), pyramid = Pyramid::arena_bytes(layout);
     const size_t entries = BandPlan::entry_bytes(scene_.bsp_piece_count, out_.band_count());
-    if (free >= pyramid + entries)
-      plan_.init(arena, scene_.bsp_piece_count, free >= pyramid + entries + BandPlan::facing_bytes(scene_.triangle_count),
-                 scene_.triangle_count, out_.band_count());
+    const size_t facing = BandPlan::facing_bytes(scene_.triangle_count);
+    if (out_.band_count() > 1 && free >= pyramid + entries)
+      plan_.init(arena, scene_.bsp_piece_count, free >= pyramid + entries + facing, scene_.triangle_count,
+                 out_.band_count());
+    else if (out_.band_count() == 1 && facing > 0 && free >= pyramid + facing)
+      plan_.keep_facings(arena, scene_.triangle_count);
   }
   for (int band = 0; band < out_.band_count(); ++band) {
     s = render_band(band, arena);
@@ -965,6 +973,8 @@ Status TilerFrame::walk_bsp() {
   const TriageMask& root = pyramid_.mask(0, 0, 0);
   uint32_t pieces_done = 0, visits = 0;
   const bool planned = plan_.active();
+  const BandPlan plan = plan_;
+  const uint16_t unknown = plan.unknown();
   const uint32_t cull_min = planned ? kCullMinPiecesPlanned : kCullMinPieces;
   size_t sp = 0;
   stack_[sp++] = 0;
@@ -992,19 +1002,22 @@ Status TilerFrame::walk_bsp() {
       }
       continue;
     }
-    const uint32_t end = node.first_piece + node.piece_count;
-    for (uint32_t p = node.first_piece; p < end; ++p) {
-      // Most visits, with the plan, end at the piece's entry: culled, or not in this band.
-      const uint16_t entry = planned ? plan_.get(p) : plan_.unknown();
-      if (entry != plan_.unknown() && !plan_.has(entry)) {
-        ++pieces_done;
-        ++st_->triangles_culled;
+    // Most visits, with the plan, end at the piece's entry: culled, or not in this band. The entries
+    // are read through a copy of the plan, which the compiler keeps in registers (stores to the
+    // stats could alias the plan's members).
+    uint32_t skipped = 0;
+    for (uint32_t p = node.first_piece, end = p + node.piece_count; p < end; ++p) {
+      const uint16_t entry = planned ? plan.get(p) : unknown;
+      if (entry != unknown && !plan.has(entry)) {
+        ++skipped;
         continue;
       }
-      texture_plan_.at_piece(pieces_done++);
+      texture_plan_.at_piece(pieces_done + (p - node.first_piece));
       if (!draw_piece(p, entry)) return error(StatusCode::SinkFailed, "sink refused a write");
       if (writer_->wrote_piece()) ++st_->triangles_drawn; else ++st_->triangles_culled;
     }
+    pieces_done += node.piece_count;
+    st_->triangles_culled += skipped;
     if (far != kNone) f = far; else --sp;
   }
   // Once the root is covered every remaining piece is hidden.
@@ -1107,8 +1120,7 @@ bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
     return true;
   }
   Vec3i split_world[3];
-  if (split)
-    for (int i = 0; i < 3; ++i) split_world[i] = vertex_world(scene_, tri.batch, piece.v[i]);
+  if (split) vertices_world(scene_, tri.batch, piece.v, split_world);
   const Vec3i* world = split ? split_world : whole();
   // The piece is transformed once: for its plan entry (first visit) and its projection.
   ViewTriangle view;
