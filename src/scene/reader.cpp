@@ -440,9 +440,13 @@ const TextureTexels* material_texels(const Scene& scene, const Material& materia
   return t->format == uint8_t(TexelFormat::None) ? nullptr : t;
 }
 
+void vertices_world(const Scene& scene, uint32_t batch, const uint32_t v[3], Vec3i out[3]) {
+  for (int k = 0; k < 3; ++k) out[k] = vertex_world(scene, batch, v[k]);
+}
+
 void triangle_world(const Scene& scene, uint32_t id, Vec3i out[3]) {
   const Triangle t = triangle_at(scene, id);
-  for (int k = 0; k < 3; ++k) out[k] = vertex_world(scene, t.batch, t.v[k]);
+  vertices_world(scene, t.batch, t.v, out);
 }
 
 }  // namespace ml

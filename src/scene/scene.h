@@ -160,6 +160,9 @@ Vec3i vertex_world(const Scene& scene, uint32_t batch, uint32_t vertex);
 // section, or a texture the compiler stored as TexelFormat::None).
 const TextureTexels* material_texels(const Scene& scene, const Material& material);
 
+// World positions of three vertices quantized with `batch` (a triangle's, a BSP piece's).
+void vertices_world(const Scene& scene, uint32_t batch, const uint32_t v[3], Vec3i out[3]);
+
 // World positions of triangle `id`'s three vertices.
 void triangle_world(const Scene& scene, uint32_t id, Vec3i out[3]);
 

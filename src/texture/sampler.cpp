@@ -267,8 +267,58 @@ void piece_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexe
   }
 }
 
+// Nearest texels of n samples whose indices (a + s j) >> shift on both axes lie inside the texture.
+template <typename Fetch>
+__attribute__((always_inline)) inline void nearest_inside(const Fetch& fetch, int64_t au, int64_t av, int64_t su,
+                                                          int64_t sv, int shift, int32_t n, Pixel* out) {
+  for (int32_t i = 0; i < n; ++i, au += su, av += sv) out[i] = fetch(int32_t(au >> shift), int32_t(av >> shift));
+}
+
+// One axis of a run whose texel indices (a + s j) >> shift leave the texture (2^size_bits texels, wrap
+// mode M): how many samples from j = 0 on (at most n) keep their index in sample 0's cell of the wrap
+// (a period of Repeat, a half period of MirroredRepeat, the texture or one side of it for
+// ClampToEdge), with *a and *s replaced by a start and step whose indices are the wrapped ones there:
+// the start moved by whole periods; in a mirrored half, reversed (C - (x >> shift) is
+// (~x + (C + 1) 2^shift) >> shift, and ~x = -x - 1); on a clamped side, constant. Along a run the
+// indices are monotonic, so a cell is one stretch of samples.
+template <TextureWrap M>
+__attribute__((always_inline)) inline int32_t wrap_cell(int64_t* a, int64_t* s, int shift, int size_bits, int32_t n) {
+  const int64_t one = int64_t(1) << shift, size = int64_t(1) << size_bits, i = *a >> shift;
+  int64_t lo = (i >> size_bits) * size, hi = lo + size;  // the cell's indices [lo, hi)
+  bool below = true, above = true;                      // whether it ends there
+  if (M == TextureWrap::ClampToEdge) {
+    lo = i < 0 ? 0 : (i < size ? 0 : size);
+    hi = i < 0 ? 0 : size;
+    below = i >= 0;
+    above = i < size;
+  }
+  uint64_t count = uint64_t(n);
+  if (*s > 0 && above) count = udiv64(uint64_t(hi * one - *a) + uint64_t(*s) - 1, uint64_t(*s));  // ceil
+  if (*s < 0 && below) count = udiv64(uint64_t(*a - lo * one), uint64_t(-*s)) + 1;
+  if (M == TextureWrap::ClampToEdge) {
+    if (i < 0 || i >= size) {
+      *a = i < 0 ? 0 : (size - 1) * one;
+      *s = 0;
+    }
+  } else if (M == TextureWrap::MirroredRepeat && ((i >> size_bits) & 1)) {
+    *a = hi * one - 1 - *a;
+    *s = -*s;
+  } else {
+    *a -= lo * one;
+  }
+  return count < uint64_t(n) ? int32_t(count) : n;
+}
+
+// The wrap cells a run's indices (a + s j) >> shift cross along one axis (periods of the texture's
+// 2^size_bits texels: for a clamped axis at least those crossed).
+inline int64_t cells_crossed(int64_t a, int64_t s, int32_t n, int shift, int size_bits) {
+  const int64_t first = (a >> shift) >> size_bits, last = ((a + s * (n - 1)) >> shift) >> size_bits;
+  return first < last ? last - first : first - last;
+}
+
 // Nearest filtering, both axes' wrap modes fixed (mirrored and clamped textures: no mode tests per
-// sample); the table gives texels modulated by the colour.
+// sample); the table gives texels modulated by the colour. A run whose indices leave the texture is
+// cut at the wrap's cells (wrap_cell) when it crosses few of them, each cell drawn as if inside.
 template <TexelFormat F, TextureWrap S, TextureWrap T>
 void nearest_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& texture, const uint8_t* bytes,
                  const Pixel* lut, int64_t j, int32_t n, Pixel* out) {
@@ -282,8 +332,21 @@ void nearest_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTe
   const int shift = common_shift(a, s, shifts);
   au = a[0], av = a[1];
   const int64_t su = s[0], sv = s[1];
-  if (within(au, su, n, shift, width - 1) && within(av, sv, n, shift, height - 1)) {
-    for (int32_t i = 0; i < n; ++i, au += su, av += sv) out[i] = fetch(int32_t(au >> shift), int32_t(av >> shift));
+  const bool inside_u = within(au, su, n, shift, width - 1), inside_v = within(av, sv, n, shift, height - 1);
+  if (inside_u && inside_v) return nearest_inside(fetch, au, av, su, sv, shift, n, out);
+  // A cell of an axis costs about what wrapping 4 samples does: cut runs of at least 8 samples a cell.
+  if (n >= 8 && (1 + (inside_u ? 0 : cells_crossed(au, su, n, shift, p.size_bits[0])) +
+                 (inside_v ? 0 : cells_crossed(av, sv, n, shift, p.size_bits[1]))) * 8 <= n) {
+    while (n > 0) {
+      int64_t cu = au, tu = su, cv = av, tv = sv;
+      const int32_t m = min_of(inside_u ? n : wrap_cell<S>(&cu, &tu, shift, p.size_bits[0], n),
+                               inside_v ? n : wrap_cell<T>(&cv, &tv, shift, p.size_bits[1], n));
+      nearest_inside(fetch, cu, cv, tu, tv, shift, m, out);
+      out += m;
+      n -= m;
+      au += su * m;
+      av += sv * m;
+    }
     return;
   }
   for (int32_t i = 0; i < n; ++i, au += su, av += sv)
@@ -379,19 +442,54 @@ Pixel sample_texture(const TextureTexels& t, const uint8_t* bytes, const int32_t
 
 namespace {
 
+// The colour at uv through a table of this texture for a colour, `after` left to apply (white: none):
+// nearest, the texel x after; bilinear, the filter of the texels each x after (as textured_colour).
 template <TexelFormat F>
 Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel after, const int32_t uv[2]) {
   const LutTexels<F> fetch(t, bytes, lut);
-  if (t.filter == uint8_t(TextureFilter::Bilinear)) return bilinear<false>(t, uv[0], uv[1], fetch);
+  if (t.filter == uint8_t(TextureFilter::Bilinear))  // (modulate_texel leaves a texel as it is for white)
+    return bilinear<false>(t, uv[0], uv[1], [&](int32_t x, int32_t y) { return modulate_texel(fetch(x, y), after); });
   const int64_t su = int64_t(uv[0]) * t.width, sv = int64_t(uv[1]) * t.height;
   return modulate_texel(fetch(wrap(su >> 16, t.width, t.wrap_s), wrap(sv >> 16, t.height, t.wrap_t)), after);
 }
+
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+// A small triangle's samples (TexturePlanes::exact): exact coordinates a row of up to kExactChunk
+// samples at a time, each sample's colour through the table (nearest filtering: its texel taken
+// here, format F known) or decoded, without one. (The firmware, ML_TEXTURE_RUNS_GENERAL_ONLY, for its
+// code budget: texture_rows' samples one by one, each exact.)
+constexpr int32_t kExactChunk = 16;
+
+template <TexelFormat F>
+void exact_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
+                Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out) {
+  int32_t uv[kExactChunk][2];
+  const bool nearest = lut && t.filter != uint8_t(TextureFilter::Bilinear);
+  const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;
+  const LutTexels<F> fetch(t, bytes, lut);
+  const int sb[2] = {16 - p.size_bits[0], 16 - p.size_bits[1]};  // floor(u W / 2^16) for W = 2^size_bits
+  for (int32_t r = 0; r < rows; ++r)
+    for (int32_t at = 0; at < n; at += kExactChunk) {
+      const int32_t m = min_of(kExactChunk, n - at);
+      exact_texture_row(p, x + at, y + r, m, uv);
+      if (nearest) {
+        for (int32_t i = 0; i < m; ++i) {
+          const Pixel texel =
+              fetch(wrap(uv[i][0] >> sb[0], t.width, t.wrap_s), wrap(uv[i][1] >> sb[1], t.height, t.wrap_t));
+          *out++ = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
+        }
+        continue;
+      }
+      for (int32_t i = 0; i < m; ++i)
+        *out++ = lut ? sample_texture(t, bytes, lut, lut_colour, uv[i], colour) : textured_colour(t, bytes, uv[i], colour);
+    }
+}
+#endif
 
 }  // namespace
 
 Pixel sample_texture(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                      const int32_t uv[2], Pixel colour) {
-  if (t.filter == uint8_t(TextureFilter::Bilinear) && lut_colour != colour) return textured_colour(t, bytes, uv, colour);
   const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;
   switch (TexelFormat(t.format)) {
     case TexelFormat::Palette8: return sample_lut<TexelFormat::Palette8>(t, bytes, lut, after, uv);
@@ -425,17 +523,31 @@ void make_texel_lut(const TextureTexels& t, const uint8_t* bytes, Pixel colour, 
 
 void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                   Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out) {
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+  if (p.exact) {
+    switch (TexelFormat(t.format)) {
+      case TexelFormat::Palette8: return exact_rows<TexelFormat::Palette8>(p, t, bytes, lut, lut_colour, colour, x, y, n, rows, out);
+      case TexelFormat::Grey4: return exact_rows<TexelFormat::Grey4>(p, t, bytes, lut, lut_colour, colour, x, y, n, rows, out);
+      case TexelFormat::Rgb565: return exact_rows<TexelFormat::Rgb565>(p, t, bytes, lut, lut_colour, colour, x, y, n, rows, out);
+      default: break;
+    }
+  }
+#endif
+  const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;  // the product left per sample
   const bool bilinear = t.filter == uint8_t(TextureFilter::Bilinear);
   if (!lut || (bilinear && lut_colour != colour)) {
     for (int32_t r = 0; r < rows; ++r)
       for (int32_t i = 0; i < n; ++i) {
         int32_t uv[2];
         texture_uv(p, x + i, y + r, uv);
-        *out++ = textured_colour(t, bytes, uv, colour);
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+        *out++ = lut ? sample_texture(t, bytes, lut, lut_colour, uv, colour) : textured_colour(t, bytes, uv, colour);
+#else
+        *out++ = textured_colour(t, bytes, uv, colour);  // the same colours, without the table's code
+#endif
       }
     return;
   }
-  const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;  // the product left per sample
   const PieceRun run = piece_run_of(t, after);
   if (!run) {
     for (int32_t i = 0; i < n * rows; ++i) out[i] = colour;

@@ -206,24 +206,6 @@ void poly_from_setup(const TriangleSetup& setup, ConvexPoly* out) {
   out->max_y = setup.max_y;
 }
 
-void sample_box(int32_t min_x, int32_t min_y, int32_t max_x, int32_t max_y, int factor, int width, int height,
-                bool jittered, ConvexPoly* out) {
-  // Sample centres s * pitch + pitch / 2 inside [min, max] (setup_triangle's pixel box when factor is
-  // 1); jittered samples anywhere in their cells [s * pitch, (s + 1) * pitch). The pitch is a power of
-  // two: floors are arithmetic shifts.
-  const int bits = kSubpixelBits - (factor == 8 ? 3 : factor == 4 ? 2 : factor == 2 ? 1 : 0);
-  const int64_t half = jittered ? 0 : (int64_t(1) << bits) / 2;
-  if (jittered) {
-    out->min_x = int32_t(max_of<int64_t>(0, floor_shift(min_x, bits)));
-    out->min_y = int32_t(max_of<int64_t>(0, floor_shift(min_y, bits)));
-  } else {
-    out->min_x = int32_t(max_of<int64_t>(0, -floor_shift(-(int64_t(min_x) - half), bits)));
-    out->min_y = int32_t(max_of<int64_t>(0, -floor_shift(-(int64_t(min_y) - half), bits)));
-  }
-  out->max_x = int32_t(min_of<int64_t>(int64_t(width) * factor - 1, floor_shift(int64_t(max_x) - half, bits)));
-  out->max_y = int32_t(min_of<int64_t>(int64_t(height) * factor - 1, floor_shift(int64_t(max_y) - half, bits)));
-}
-
 void poly_edges(const ScreenTriangle& tri, ConvexPoly* out) {
   out->n = 3;
   for (int i = 0; i < 3; ++i) {

@@ -43,9 +43,26 @@ void poly_in_samples(const ScreenTriangle& tri, const TriangleSetup& setup, int 
                      int height, ConvexPoly* out, bool jittered = false);
 
 // The box of poly_in_samples alone, from a triangle's extent in subpixels (its vertices' smallest and
-// largest x and y): the samples it can cover, clipped to the screen; empty when min > max.
-void sample_box(int32_t min_x, int32_t min_y, int32_t max_x, int32_t max_y, int factor, int width, int height,
-                bool jittered, ConvexPoly* out);
+// largest x and y, |values| < 2^30: projected vertices lie inside the guard band): the samples it can
+// cover, clipped to the screen; empty when min > max. 32-bit arithmetic: inline, it costs a board
+// little code.
+inline void sample_box(int32_t min_x, int32_t min_y, int32_t max_x, int32_t max_y, int factor, int width, int height,
+                       bool jittered, ConvexPoly* out) {
+  // Sample centres s * pitch + pitch / 2 inside [min, max] (setup_triangle's pixel box when factor is
+  // 1); jittered samples anywhere in their cells [s * pitch, (s + 1) * pitch). The pitch is a power of
+  // two: floors are arithmetic shifts.
+  const int bits = kSubpixelBits - (factor == 8 ? 3 : factor == 4 ? 2 : factor == 2 ? 1 : 0);
+  const int32_t half = jittered ? 0 : (int32_t(1) << bits) / 2;
+  if (jittered) {
+    out->min_x = max_of<int32_t>(0, min_x >> bits);
+    out->min_y = max_of<int32_t>(0, min_y >> bits);
+  } else {
+    out->min_x = max_of<int32_t>(0, -((half - min_x) >> bits));
+    out->min_y = max_of<int32_t>(0, -((half - min_y) >> bits));
+  }
+  out->max_x = min_of<int32_t>(width * factor - 1, (max_x - half) >> bits);
+  out->max_y = min_of<int32_t>(height * factor - 1, (max_y - half) >> bits);
+}
 
 // The edges of poly_in_samples alone (setup_triangle's): a caller that rejects most polygons by their
 // box computes the edges of the others only.

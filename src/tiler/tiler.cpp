@@ -75,6 +75,7 @@ class BandWriter : public CoverageWriter {
     wrote_piece_ = false;
     texture_ = pager_ ? triangle_texture(*scene, triangle) : kNone;
     texture_ready_ = false;
+    lut_ = nullptr;
   }
   // Textured pieces (texture/): the pager, and the view their texture planes are built in.
   void use_textures(TexturePager* pager, const View* view, TextureSegment* segment_rows) {
@@ -119,6 +120,7 @@ class BandWriter : public CoverageWriter {
         stats_->pixel_writes += uint64_t(__builtin_popcountll(mask));
         return true;
       }
+      if (texture_ != kNone && !colors_.smooth && write_textured_block(mask, x, band_y + top_)) return true;
       return CoverageWriter::write_block(mask, x, band_y);
     }
     if (cosine_) {
@@ -227,14 +229,48 @@ class BandWriter : public CoverageWriter {
     texture_uv(texture_planes(), px, py, uv);
     return sample_texture(scene_->texture_texels[texture_], bytes, uv, c);
   }
-  TexturePlanes& texture_planes() {
-    if (!texture_ready_) {
-      triangle_texture_planes(*scene_, *view_, triangle_, texture_, 1, kSubpixelHalf, kSubpixelHalf,
-                              &texture_planes_);
-      use_segment_rows(&texture_planes_, segment_rows_, kSegmentRowBits);
-      texture_ready_ = true;
-    }
+  TexturePlanes& texture_planes() { return texture_ready_ ? texture_planes_ : make_texture_planes(); }
+  [[gnu::noinline]] TexturePlanes& make_texture_planes() {  // once a piece, off the per-block paths
+    triangle_texture_planes(*scene_, *view_, triangle_, texture_, 1, kSubpixelHalf, kSubpixelHalf, &texture_planes_);
+    use_segment_rows(&texture_planes_, segment_rows_, kSegmentRowBits);
+    texture_ready_ = true;
     return texture_planes_;
+  }
+
+  // The piece's texel table for `samples` samples of its texture's `bytes`, looked up once for its
+  // blocks: again only when the pager has made one since, or for a block large enough to have a
+  // table of the colour made (never for a small triangle: fewer samples in all than a table has).
+  [[gnu::noinline]] void lookup_lut(const uint8_t* bytes, uint32_t samples, bool small) {
+    if (small) samples = 0;
+    if (!lut_ || lut_generation_ != pager_->lut_generation() ||
+        (lut_colour_ != colors_.flat && samples >= TexturePager::kLutMinSamples)) {
+      lut_ = pager_->texel_lut(texture_, colors_.flat, bytes, samples, &lut_colour_);
+      lut_generation_ = pager_->lut_generation();
+    }
+  }
+
+  // An 8x8 block's newly covered samples (mask) of a small flat textured triangle, one texture_row a
+  // run of a row: no rectangles through write() (its block is a few short rows). False for other
+  // pieces, or when the pager falls back (the caller's runs then draw them).
+  [[gnu::noinline]] bool write_textured_block(uint64_t mask, int x, int y) {
+    TexturePlanes& planes = texture_planes();
+    if (!planes.exact) return false;  // larger pieces: rectangles of rows (write_textured)
+    const uint8_t* bytes = pager_->get(texture_);
+    if (!bytes) return false;
+    const uint64_t n = uint64_t(__builtin_popcountll(mask));
+    stats_->pixel_writes += n;
+    stats_->shading_calls += n;
+    lookup_lut(bytes, uint32_t(n), true);
+    const TextureTexels& t = scene_->texture_texels[texture_];
+    while (mask != 0) {
+      const int at = __builtin_ctzll(mask), row = at >> 3, start = at & 7;
+      const uint32_t rest = uint32_t(mask >> at) & (0xFFu >> start);  // the row from the run's start
+      const int run = __builtin_ctz(~rest);                             // ends at the row's end at the latest
+      texture_row(planes, t, bytes, lut_, lut_colour_, colors_.flat, x + start, y + row, run, row_);
+      out_.put_row(x + start, y + row, row_, run);
+      mask &= ~(((uint64_t(1) << run) - 1) << at);
+    }
+    return true;
   }
 
   // A block of a textured piece: flat colours a few rows at a time (texture/sampler.h texture_rows),
@@ -252,9 +288,10 @@ class BandWriter : public CoverageWriter {
       return;
     }
     const TextureTexels& t = scene_->texture_texels[texture_];
-    Pixel lut_colour;
-    const Pixel* lut = pager_->texel_lut(texture_, colors_.flat, bytes, uint32_t(w) * uint32_t(h), &lut_colour);
     TexturePlanes& planes = texture_planes();
+    lookup_lut(bytes, uint32_t(w) * uint32_t(h), planes.exact);
+    const Pixel* lut = lut_;
+    const Pixel lut_colour = lut_colour_;
     if (w <= kRowPixels) {  // as many whole rows at once as the row buffer holds
       const int per = kRowPixels / w;
       for (int yy = y; yy < y + h; yy += per) {
@@ -335,6 +372,9 @@ class BandWriter : public CoverageWriter {
   bool texture_ready_ = false;
   TexturePlanes texture_planes_{};
   TextureSegment* segment_rows_ = nullptr;
+  const Pixel* lut_ = nullptr;  // the piece's texel table (null: not looked up yet), its colour and generation
+  Pixel lut_colour_ = 0;
+  uint32_t lut_generation_ = 0;
 };
 
 // A BSP piece cut from a triangle has split vertices quantized like any vertex, so its outer edges
@@ -651,9 +691,9 @@ class BandPlan {
   // 10.96 M instructions without them, 11.12 M with them.
   static constexpr bool kExtras = sizeof(void*) >= 8;
 
-  // Bytes of the entries (aligned for two-byte ones) and of the facing bits.
+  // Bytes of the entries (aligned for two-byte ones; none for a frame of one band) and of the facing bits.
   static size_t entry_bytes(uint32_t pieces, int bands) {
-    return kExtras && bands > 16 ? 2 * size_t(pieces) + 1 : size_t(pieces);
+    return bands < 2 ? 0 : kExtras && bands > 16 ? 2 * size_t(pieces) + 1 : size_t(pieces);
   }
   static size_t facing_bytes(uint32_t triangles) { return kExtras ? (size_t(triangles) + 3) / 4 : 0; }
   // Entries from the arena, and two bits a triangle with keep_facing (else the facing is not kept).
@@ -671,9 +711,14 @@ class BandPlan {
       narrow_ = arena.allocate_array<uint8_t>(pieces);
       if (narrow_) memset(narrow_, unknown(), pieces);  // a byte at a time took 5 instructions a piece
     }
-    facing_ = kExtras && keep_facing ? arena.allocate_array<uint8_t>(facing_bytes(triangles)) : nullptr;  // facing + 2, 0 = unknown
-    if (facing_) memset(facing_, 0, facing_bytes(triangles));
+    if (keep_facing) keep_facings(arena, triangles);
     active_ = narrow_ || wide_;
+  }
+  // The facing bits alone: a frame of one band visits each piece once, but the pieces of a split
+  // triangle still share its facing test.
+  void keep_facings(Arena& arena, uint32_t triangles) {
+    facing_ = kExtras ? arena.allocate_array<uint8_t>(facing_bytes(triangles)) : nullptr;  // facing + 2, 0 = unknown
+    if (facing_) memset(facing_, 0, facing_bytes(triangles));
   }
   bool active() const { return active_; }
   bool keeps_facing() const { return kExtras && facing_ != nullptr; }
@@ -808,16 +853,19 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
   }
   st_->bsp_nodes = scene_.bsp_node_count;
   st_->bsp_pieces = scene_.bsp_piece_count;
-  if (out_.band_count() > 1) {  // the plan, when the bands' pyramid still fits beside it
+  {  // the plan, when the bands' pyramid still fits beside it
     PyramidLayout layout;
     band_layout(camera_.width, tiled_samples(options_, 0, out_.band_rows(), camera_.height), band_.factor, &layout);
     // The triangles' facing bits only when there is room for them as well (the microbit has room for
-    // the pieces' entries alone).
+    // the pieces' entries alone); with one band, the facing bits alone.
     const size_t free = arena.size() - arena.used(), pyramid = Pyramid::arena_bytes(layout);
     const size_t entries = BandPlan::entry_bytes(scene_.bsp_piece_count, out_.band_count());
-    if (free >= pyramid + entries)
-      plan_.init(arena, scene_.bsp_piece_count, free >= pyramid + entries + BandPlan::facing_bytes(scene_.triangle_count),
-                 scene_.triangle_count, out_.band_count());
+    const size_t facing = BandPlan::facing_bytes(scene_.triangle_count);
+    if (out_.band_count() > 1 && free >= pyramid + entries)
+      plan_.init(arena, scene_.bsp_piece_count, free >= pyramid + entries + facing, scene_.triangle_count,
+                 out_.band_count());
+    else if (out_.band_count() == 1 && facing > 0 && free >= pyramid + facing)
+      plan_.keep_facings(arena, scene_.triangle_count);
   }
   for (int band = 0; band < out_.band_count(); ++band) {
     s = render_band(band, arena);
@@ -920,6 +968,8 @@ Status TilerFrame::walk_bsp() {
   const TriageMask& root = pyramid_.mask(0, 0, 0);
   uint32_t pieces_done = 0, visits = 0;
   const bool planned = plan_.active();
+  const BandPlan plan = plan_;
+  const uint16_t unknown = plan.unknown();
   const uint32_t cull_min = planned ? kCullMinPiecesPlanned : kCullMinPieces;
   size_t sp = 0;
   stack_[sp++] = 0;
@@ -947,19 +997,22 @@ Status TilerFrame::walk_bsp() {
       }
       continue;
     }
-    const uint32_t end = node.first_piece + node.piece_count;
-    for (uint32_t p = node.first_piece; p < end; ++p) {
-      // Most visits, with the plan, end at the piece's entry: culled, or not in this band.
-      const uint16_t entry = planned ? plan_.get(p) : plan_.unknown();
-      if (entry != plan_.unknown() && !plan_.has(entry)) {
-        ++pieces_done;
-        ++st_->triangles_culled;
+    // Most visits, with the plan, end at the piece's entry: culled, or not in this band. The entries
+    // are read through a copy of the plan, which the compiler keeps in registers (stores to the
+    // stats could alias the plan's members).
+    uint32_t skipped = 0;
+    for (uint32_t p = node.first_piece, end = p + node.piece_count; p < end; ++p) {
+      const uint16_t entry = planned ? plan.get(p) : unknown;
+      if (entry != unknown && !plan.has(entry)) {
+        ++skipped;
         continue;
       }
-      texture_plan_.at_piece(pieces_done++);
+      texture_plan_.at_piece(pieces_done + (p - node.first_piece));
       if (!draw_piece(p, entry)) return error(StatusCode::SinkFailed, "sink refused a write");
       if (writer_->wrote_piece()) ++st_->triangles_drawn; else ++st_->triangles_culled;
     }
+    pieces_done += node.piece_count;
+    st_->triangles_culled += skipped;
     if (far != kNone) f = far; else --sp;
   }
   // Once the root is covered every remaining piece is hidden.
@@ -1062,8 +1115,7 @@ bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
     return true;
   }
   Vec3i split_world[3];
-  if (split)
-    for (int i = 0; i < 3; ++i) split_world[i] = vertex_world(scene_, tri.batch, piece.v[i]);
+  if (split) vertices_world(scene_, tri.batch, piece.v, split_world);
   const Vec3i* world = split ? split_world : whole();
   // The piece is transformed once: for its plan entry (first visit) and its projection.
   ViewTriangle view;

@@ -90,14 +90,19 @@ inline int64_t project_offset(const View& view, int32_t c, int32_t z) {
 // |v| <= limit, as one unsigned comparison (limit < 2^62).
 inline bool within(int64_t v, int64_t limit) { return uint64_t(v + limit) <= uint64_t(2 * limit); }
 
+void set_screen_vertex(const View& view, int32_t z, const int32_t weight[3], int64_t offset_x, int64_t offset_y,
+                       bool depth, ScreenVertex* s) {
+  s->x = int32_t(view.center_x + offset_x);
+  s->y = int32_t(view.center_y + offset_y);
+  s->z = z;
+  s->depth = depth ? uint32_t(udiv64(uint64_t(view.near) << kDepthBits, uint64_t(z))) : 0;
+  for (int k = 0; k < 3; ++k) s->weight[k] = weight[k];
+}
+
 ScreenVertex make_screen_vertex(const View& view, const ClipVertex& c, int64_t offset_x, int64_t offset_y,
                                 bool depth) {
   ScreenVertex s;
-  s.x = int32_t(view.center_x + offset_x);
-  s.y = int32_t(view.center_y + offset_y);
-  s.z = c.p.z;
-  s.depth = depth ? uint32_t(udiv64(uint64_t(view.near) << kDepthBits, uint64_t(c.p.z))) : 0;
-  for (int k = 0; k < 3; ++k) s.weight[k] = c.weight[k];
+  set_screen_vertex(view, c.p.z, c.weight, offset_x, offset_y, depth, &s);
   return s;
 }
 
@@ -281,17 +286,18 @@ int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenT
 int project_triangle(const View& view, const ViewTriangle& tri, int facing, ScreenTriangle out[kMaxClipTriangles],
                      bool depths) {
   if (facing == 0) return 0;  // seen edge-on: covers nothing
+  static constexpr int32_t kVertexWeights[3][3] = {{kWeightOne, 0, 0}, {0, kWeightOne, 0}, {0, 0, kWeightOne}};
+  if (tri.unclipped) {  // straight into the output: no clip polygon
+    for (int i = 0; i < 3; ++i)
+      set_screen_vertex(view, tri.p[i].z, kVertexWeights[i], tri.ox[i], tri.oy[i], depths, &out[0].v[i]);
+    out[0].front_facing = facing > 0;
+    return orient(&out[0]) ? 1 : 0;
+  }
   ClipVertex buffers[2][kMaxPolygon];
   ClipVertex* poly = buffers[0];
   for (int i = 0; i < 3; ++i) {
     poly[i].p = tri.p[i];
-    poly[i].weight[0] = poly[i].weight[1] = poly[i].weight[2] = 0;
-    poly[i].weight[i] = kWeightOne;
-  }
-  if (tri.unclipped) {
-    for (int i = 0; i < 3; ++i) out[0].v[i] = make_screen_vertex(view, poly[i], tri.ox[i], tri.oy[i], depths);
-    out[0].front_facing = facing > 0;
-    return orient(&out[0]) ? 1 : 0;
+    for (int k = 0; k < 3; ++k) poly[i].weight[k] = kVertexWeights[i][k];
   }
 
   int count = 3;
