@@ -776,7 +776,7 @@ class TilerFrame {
   Status walk_bsp();
   // True when no sample of the band that a piece of the node's subtree could write is still
   // uncovered (or the subtree has no pieces).
-  bool subtree_hidden(uint32_t index, BspNode node);
+  bool subtree_hidden(uint32_t index, uint32_t subtree_pieces);
   // Projects, culls and tiles one piece into the band's pyramid; false when the sink refused a write.
   // entry: the piece's plan entry (unknown without the plan), in this band or unknown.
   bool draw_piece(uint32_t index, uint16_t entry);
@@ -987,7 +987,7 @@ Status TilerFrame::walk_bsp() {
     uint32_t near, far;
     children(node, &near, &far);
     if (!(f & kNearDone)) {
-      if (node.subtree_pieces >= cull_min && subtree_hidden(index, node)) {
+      if (node.subtree_pieces >= cull_min && subtree_hidden(index, node.subtree_pieces)) {
         // Every piece below is hidden (or outside the band).
         pieces_done += node.subtree_pieces;
         st_->triangles_culled += node.subtree_pieces;
@@ -1025,8 +1025,9 @@ Status TilerFrame::walk_bsp() {
   return ok_status();
 }
 
-bool TilerFrame::subtree_hidden(uint32_t index, BspNode node) {
-  if (node.subtree_pieces == 0) return true;
+bool TilerFrame::subtree_hidden(uint32_t index, uint32_t subtree_pieces) {
+  if (subtree_pieces == 0) return true;
+  BspNode node;  // its box alone (the walk's copy of the rest is not copied a test)
   bsp_node_box(scene_, index, &node);
   ViewBox vbox;
   if (!view_box(view_, node, &vbox)) return false;
