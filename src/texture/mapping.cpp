@@ -86,15 +86,18 @@ ExactUv exact_in(const TexturePlanes& p, TextureSegment& sg, int32_t x) {
 
 int texture_segment_bits(const TexturePlanes& p, const ExactUv& s, const ExactUv& e) { return segment_bits(p, s, e); }
 
-void make_texture_planes(const View& view, const Vec3i world[3], const int32_t uv[3][2], int32_t den,
-                         int32_t ox, int32_t oy, uint32_t width, uint32_t height, int error_bits,
-                         TexturePlanes* out) {
+namespace {
+
+// make_texture_planes from the triangle's view-space vertices (view_coordinate on right, down and
+// forward of its world vertices).
+void planes_from_view(const View& view, const Vec3i viewed[3], const int32_t uv[3][2], int32_t den, int32_t ox,
+                      int32_t oy, uint32_t width, uint32_t height, int error_bits, TexturePlanes* out) {
   int64_t p[3][3];
   for (int i = 0; i < 3; ++i) {
     // |world - eye| < 2^25, so view coordinates stay below 2^29 and each cross term below 2^58.
-    p[i][0] = view_coordinate(view, view.right, world[i]);
-    p[i][1] = view_coordinate(view, view.down, world[i]);
-    p[i][2] = view_coordinate(view, view.forward, world[i]);
+    p[i][0] = viewed[i].x;
+    p[i][1] = viewed[i].y;
+    p[i][2] = viewed[i].z;
     out->uv[i][0] = uv[i][0];
     out->uv[i][1] = uv[i][1];
   }
@@ -131,6 +134,18 @@ void make_texture_planes(const View& view, const Vec3i world[3], const int32_t u
   out->one.y = -1;
   out->piece.y = -1;
   out->exact = false;
+}
+
+}  // namespace
+
+void make_texture_planes(const View& view, const Vec3i world[3], const int32_t uv[3][2], int32_t den,
+                         int32_t ox, int32_t oy, uint32_t width, uint32_t height, int error_bits,
+                         TexturePlanes* out) {
+  Vec3i p[3];
+  for (int i = 0; i < 3; ++i)
+    p[i] = Vec3i{view_coordinate(view, view.right, world[i]), view_coordinate(view, view.down, world[i]),
+                 view_coordinate(view, view.forward, world[i])};
+  planes_from_view(view, p, uv, den, ox, oy, width, height, error_bits, out);
 }
 
 void use_segment_rows(TexturePlanes* p, TextureSegment* rows, int count_bits) {
@@ -236,20 +251,29 @@ uint32_t triangle_texture(const Scene& scene, uint32_t id) {
 }
 
 void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, uint32_t texture, int32_t den,
-                             int32_t ox, int32_t oy, TexturePlanes* out) {
-  Vec3i world[3];
-  triangle_world(scene, id, world);
+                             int32_t ox, int32_t oy, TexturePlanes* out, const ViewTriangle* viewed) {
+  ViewTriangle own;
+  if (!viewed) {
+    Vec3i world[3];
+    triangle_world(scene, id, world);
+    view_triangle(view, world, &own);
+    viewed = &own;
+  }
   const Triangle tri = triangle_at(scene, id);
   int32_t uv[3][2];
   for (int i = 0; i < 3; ++i) vertex_uv(scene, tri.v[i], uv[i]);
   const TextureTexels& t = scene.texture_texels[texture];
   const int error_bits = t.filter == uint8_t(TextureFilter::Bilinear) ? kTextureAffineErrorBitsBilinear
                                                                       : kTextureAffineErrorBitsNearest;
-  make_texture_planes(view, world, uv, den, ox, oy, t.width, t.height, error_bits, out);
+  planes_from_view(view, viewed->p, uv, den, ox, oy, t.width, t.height, error_bits, out);
+  if (!viewed->unclipped) return;
+  // The lattice rows and columns of samples within the projected vertices' box (the positions
+  // project_unclipped_positions gives): sample X lies at subpixel (256 X + ox) / den.
   int32_t sx[3], sy[3];
-  if (!project_unclipped_positions(view, world, sx, sy)) return;
-  // The lattice rows and columns of samples within the vertices' box: sample X lies at subpixel
-  // (256 X + ox) / den.
+  for (int i = 0; i < 3; ++i) {
+    sx[i] = int32_t(view.center_x + viewed->ox[i]);
+    sy[i] = int32_t(view.center_y + viewed->oy[i]);
+  }
   const int64_t lo_x = min_of(sx[0], min_of(sx[1], sx[2])), hi_x = max_of(sx[0], max_of(sx[1], sx[2]));
   const int64_t lo_y = min_of(sy[0], min_of(sy[1], sy[2])), hi_y = max_of(sy[0], max_of(sy[1], sy[2]));
   const int64_t x0 = floor_shift(lo_x * den - ox + kSubpixelOne - 1, kSubpixelBits);

@@ -145,7 +145,8 @@ uint32_t triangle_texture(const Scene& scene, uint32_t id);
 // make_texture_planes for triangle `id` of the scene (its world positions and TEXCOORD_0), drawn with
 // texture `texture`, and whether it is small (exact: its sample box from its projected vertices, so
 // that both renderers decide alike).
+// viewed: the whole triangle's view_triangle when the caller has it (else it is made here).
 void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, uint32_t texture, int32_t den,
-                             int32_t ox, int32_t oy, TexturePlanes* out);
+                             int32_t ox, int32_t oy, TexturePlanes* out, const ViewTriangle* viewed = nullptr);
 
 }  // namespace ml

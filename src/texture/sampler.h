@@ -22,12 +22,11 @@ Pixel sample_texture(const TextureTexels& texture, const uint8_t* bytes, const i
 // texel * colour / 255 per channel, rounded: lighting (or the base colour factor) modulates a texel.
 inline Pixel modulate_texel(Pixel texel, Pixel colour) {
   if (colour == 0xFFFFFF) return texel;  // the same result, cheaper: unlit white materials
-  uint32_t out = 0;
-  for (int shift = 0; shift <= 16; shift += 8) {
-    const uint32_t p = ((texel >> shift) & 0xFF) * ((colour >> shift) & 0xFF);  // <= 255 * 255
-    out |= (((p + 128) * 257) >> 16) << shift;                                   // round(p / 255)
-  }
-  return out;
+  // Channel by channel, written out (a loop over the shifts stays a loop in some builds).
+  const uint32_t r = ((texel >> 16) & 0xFF) * ((colour >> 16) & 0xFF);  // <= 255 * 255
+  const uint32_t g = ((texel >> 8) & 0xFF) * ((colour >> 8) & 0xFF);
+  const uint32_t b = (texel & 0xFF) * (colour & 0xFF);
+  return ((((r + 128) * 257) >> 16) << 16) | ((((g + 128) * 257) >> 16) << 8) | (((b + 128) * 257) >> 16);  // round(p / 255)
 }
 
 // sample_texture(texture, bytes, uv, colour) through a make_texel_lut table of this texture for

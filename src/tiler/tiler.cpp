@@ -64,8 +64,11 @@ class BandWriter : public CoverageWriter {
     if (factor_ > 1 && !cosine_)
       for (size_t i = 0; i < size_t(rows) * size_t(width_); ++i) sums_[i] = PixelSum{0, 0, 0, 0};
   }
+  // whole_view: the triangle's view_triangle when the piece is the whole triangle (valid while it is
+  // tiled), else null.
   void begin_piece(const Scene* scene, const Light* light, ShadingMode mode, uint32_t triangle,
-                   bool front_facing) {
+                   bool front_facing, const ViewTriangle* whole_view = nullptr) {
+    whole_view_ = whole_view;
     scene_ = scene;
     light_ = light;
     mode_ = mode;
@@ -231,7 +234,8 @@ class BandWriter : public CoverageWriter {
   }
   TexturePlanes& texture_planes() { return texture_ready_ ? texture_planes_ : make_texture_planes(); }
   [[gnu::noinline]] TexturePlanes& make_texture_planes() {  // once a piece, off the per-block paths
-    triangle_texture_planes(*scene_, *view_, triangle_, texture_, 1, kSubpixelHalf, kSubpixelHalf, &texture_planes_);
+    triangle_texture_planes(*scene_, *view_, triangle_, texture_, 1, kSubpixelHalf, kSubpixelHalf, &texture_planes_,
+                            whole_view_);
     use_segment_rows(&texture_planes_, segment_rows_, kSegmentRowBits);
     texture_ready_ = true;
     return texture_planes_;
@@ -372,6 +376,7 @@ class BandWriter : public CoverageWriter {
   bool texture_ready_ = false;
   TexturePlanes texture_planes_{};
   TextureSegment* segment_rows_ = nullptr;
+  const ViewTriangle* whole_view_ = nullptr;
   const Pixel* lut_ = nullptr;  // the piece's texel table (null: not looked up yet), its colour and generation
   Pixel lut_colour_ = 0;
   uint32_t lut_generation_ = 0;
@@ -1141,7 +1146,7 @@ bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
   if (!viewed) view_triangle(view_, world, &view);
   ScreenTriangle parts[kMaxClipTriangles];
   const int n = project_triangle(view_, view, facing, parts, false);  // the tiler reads no depths
-  writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0);
+  writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0, split ? nullptr : &view);
   for (int i = 0; i < n; ++i) {
     const int f = band_.factor;
     ConvexPoly poly;

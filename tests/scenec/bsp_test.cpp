@@ -344,6 +344,49 @@ TEST(SceneBsp, SubtreeBoundsAreTightToTheCell) {
   }
 }
 
+// Cells: small triangles strung along x, in a box 50 times longer than it is wide. Every set of more
+// than bsp_cell_pieces pieces near the root is cut across x (the box's longest side) with few splits,
+// and the order stays a depth order.
+TEST(SceneBsp, CellsCutTheLongestSide) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> along(-50.0, 50.0), across(-1.0, 1.0), corner(-0.1, 0.1);
+  SceneMesh mesh;
+  mesh.materials.resize(1);
+  mesh.nodes.resize(1);
+  MeshPrimitive prim;
+  for (int i = 0; i < 1200; ++i) {
+    const double c[3] = {along(rng), across(rng), across(rng)};
+    for (int k = 0; k < 3; ++k) {
+      MeshVertex v;
+      for (int a = 0; a < 3; ++a) v.position[a] = c[a] + corner(rng);
+      prim.vertices.push_back(v);
+    }
+    const uint32_t base = uint32_t(prim.vertices.size() - 3);
+    prim.triangles.push_back({base, base + 1, base + 2});
+  }
+  mesh.nodes[0].primitives.push_back(prim);
+  const CompileOptions options;
+  const CompileResult r = compile_mesh(mesh, options);
+  ASSERT_TRUE(r.ok) << r.error;
+  Scene s;
+  ASSERT_TRUE(scenetest::read(r.blob, &s).ok());
+  EXPECT_LT(r.report.split_ratio, 1.05);
+  const Tree t = tree_of(s);
+  int cells = 0;
+  for (uint32_t i = 0; i < s.bsp_node_count; ++i) {
+    const BspNode& n = ml::bsp_node(s, i);
+    // Sets down to about 1/8 of the scene: their boxes stay longest along x.
+    if (t.depth[i] > 2 || n.subtree_pieces <= uint32_t(options.bsp_cell_pieces)) continue;
+    EXPECT_EQ(n.normal[0], 1 << 30) << "node " << i << " at depth " << t.depth[i];
+    EXPECT_EQ(n.normal[1], 0);
+    EXPECT_EQ(n.normal[2], 0);
+    ++cells;
+  }
+  EXPECT_EQ(cells, 7);
+  check_ids(s);
+  check_pieces(s);
+}
+
 TEST(SceneBsp, DeterministicForASeed) {
   const CompileResult a = random_soup(5, 90), b = random_soup(5, 90);
   ASSERT_TRUE(a.ok && b.ok);

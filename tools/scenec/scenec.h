@@ -155,6 +155,10 @@ struct CompileOptions {
   int bsp_split_weight = 16;          // score = 4 * split_weight * splits + balance_weight * |front - back|
   int bsp_balance_weight = 2;
   int bsp_chain_pieces = 0;           // sets up to this size ignore balance (split-free chains)
+  // Cells (bsp.cpp): sets of more than bsp_cell_pieces pieces take an axis plane across their box's
+  // longest side when it cuts at most bsp_cell_split_permille of the sampled pieces.
+  int bsp_cell_pieces = 32;
+  int bsp_cell_split_permille = 10;
 };
 
 struct CompileReport {
