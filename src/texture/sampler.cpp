@@ -468,6 +468,7 @@ void exact_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, 
   const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;
   const LutTexels<F> fetch(t, bytes, lut);
   const int sb[2] = {16 - p.size_bits[0], 16 - p.size_bits[1]};  // floor(u W / 2^16) for W = 2^size_bits
+  const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
   for (int32_t r = 0; r < rows; ++r)
     for (int32_t at = 0; at < n; at += kExactChunk) {
       const int32_t m = min_of(kExactChunk, n - at);
@@ -478,6 +479,14 @@ void exact_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, 
               fetch(wrap(uv[i][0] >> sb[0], t.width, t.wrap_s), wrap(uv[i][1] >> sb[1], t.height, t.wrap_t));
           *out++ = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
         }
+        continue;
+      }
+      if (lut) {  // bilinear: each texel times `after` (white: as it is), then the filter, as sample_texture
+        const auto modulated = [&](int32_t tx, int32_t ty) { return modulate_texel(fetch(tx, ty), after); };
+        if (repeat)
+          for (int32_t i = 0; i < m; ++i) *out++ = bilinear<true>(t, uv[i][0], uv[i][1], modulated);
+        else
+          for (int32_t i = 0; i < m; ++i) *out++ = bilinear<false>(t, uv[i][0], uv[i][1], modulated);
         continue;
       }
       for (int32_t i = 0; i < m; ++i)
