@@ -533,8 +533,11 @@ struct Renderer {
     Vec3i world[3];
     triangle_world(*scene, id, world);
     ScreenTriangle pieces[kMaxClipTriangles];
-    // Deterministic: the same pieces as the ySortList pass, which also found the facing.
-    project_triangle(s.view, world, (e.ref & 8) ? -1 : 1, pieces);
+    // Deterministic: the same pieces as the ySortList pass, which also found the facing. (Its view
+    // transform kept for a textured triangle's planes, below.)
+    ViewTriangle viewed;
+    view_triangle(s.view, world, &viewed);
+    project_triangle(s.view, viewed, (e.ref & 8) ? -1 : 1, pieces);
     const ScreenTriangle& t = pieces[k];
     uint32_t slot;
     if (free_head != 0xFFFFFFFFu) { slot = free_head; free_head = act[slot].id; }
@@ -550,6 +553,12 @@ struct Renderer {
       tex_of[slot] = triangle_texture(*scene, id);
       tex_lut[slot] = SlotLut{nullptr, 0, 0, ~0u, 0};
       pager.add_user(tex_of[slot]);
+      // The texture planes now, from the view transform at hand (planes_of would make it again).
+      if (tex_of[slot] != kNone) {
+        triangle_texture_planes(*scene, s.view, id, tex_of[slot], s.lat.den, s.lat.ox, s.lat.oy, &tex_planes[slot],
+                                &viewed);
+        tex_of[slot] |= kTexReady;
+      }
     }
     const Material& mat = material_of(*scene, id);
     if (mat.alpha_mode == uint8_t(AlphaMode::Blend) && s.colour) flags |= kBlend;
