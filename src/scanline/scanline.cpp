@@ -681,14 +681,19 @@ struct Renderer {
       return true;
     }
     // The slot's table, looked up once for its rows: again only when the pager has made one since,
-    // or for a run long enough to have a table of the colour made.
-    // (A small triangle's has fewer samples in all than a table has entries: never one of its colour.)
-    SlotLut& l = tex_lut[slot];
+    // or for a run long enough to have a table of the colour made. A small triangle's is the
+    // texture's white one (TexturePager::white_lut).
     const Pixel c = a.color[0];
     TexturePlanes& planes = planes_of(slot, a.id);
+    if (planes.exact) {
+      texture_row(planes, scene->texture_texels[texture], bytes, pager.white_lut(texture, bytes), 0xFFFFFF, c, x0, y,
+                  int32_t(n), out);
+      return true;
+    }
+    SlotLut& l = tex_lut[slot];
     if (l.generation != pager.lut_generation() || l.colour != c || !l.lut ||
-        (l.lut_colour != c && n >= TexturePager::kLutMinSamples && !planes.exact)) {
-      l.lut = pager.texel_lut(texture, c, bytes, planes.exact ? 0 : n, &l.lut_colour);
+        (l.lut_colour != c && n >= TexturePager::kLutMinSamples)) {
+      l.lut = pager.texel_lut(texture, c, bytes, n, &l.lut_colour);
       l.colour = c;
       l.generation = pager.lut_generation();
       l.untabled = 0;

@@ -206,6 +206,14 @@ const Pixel* TexturePager::texel_lut(uint32_t t, Pixel colour, const uint8_t* by
   return cached_lut(t, 0xFFFFFF, bytes, true);
 }
 
+const Pixel* TexturePager::find_white_lut(uint32_t t, const uint8_t* bytes) {
+  Pixel colour;
+  white_ = texel_lut(t, 0xFFFFFF, bytes, 0, &colour);  // (white: the table is the white one)
+  white_texture_ = t;
+  white_generation_ = lut_clock_made_;
+  return white_;
+}
+
 const Pixel* TexturePager::cached_lut(uint32_t t, Pixel colour, const uint8_t* bytes, bool make) {
   uint32_t oldest = 0;
   for (uint32_t i = 0; i < kLutSlots; ++i) {

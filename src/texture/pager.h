@@ -82,6 +82,13 @@ class TexturePager {
   static constexpr uint32_t kLutSlots = 4;
   static constexpr uint32_t kLutMinSamples = 32;
   const Pixel* texel_lut(uint32_t t, Pixel colour, const uint8_t* bytes, uint32_t samples, Pixel* lut_colour);
+  // Texture t's white table (texel_lut's for white: its texels alone), made if needed; kept at hand
+  // from one call to the next while no table is made. A small triangle's samples take it: fewer in all
+  // than a table of their colour has entries. Null as texel_lut.
+  const Pixel* white_lut(uint32_t t, const uint8_t* bytes) {
+    if (t == white_texture_ && white_generation_ == lut_clock_made_) return white_;
+    return find_white_lut(t, bytes);
+  }
   // Counts the tables made: a table pointer from texel_lut stays valid while this does not change.
   uint32_t lut_generation() const { return lut_clock_made_; }
 
@@ -103,6 +110,7 @@ class TexturePager {
   void release(uint32_t t);
   void fallback(uint32_t t);
   const Pixel* cached_lut(uint32_t t, Pixel colour, const uint8_t* bytes, bool make);
+  const Pixel* find_white_lut(uint32_t t, const uint8_t* bytes);
 
   const Scene* scene_ = nullptr;
   TextureSource* source_ = nullptr;
@@ -128,6 +136,8 @@ class TexturePager {
   LutKey lut_keys_[kLutSlots] = {};
   uint32_t lut_clock_ = 0;
   uint32_t lut_clock_made_ = 0;
+  uint32_t white_texture_ = kNone, white_generation_ = 0;  // white_lut's last answer
+  const Pixel* white_ = nullptr;
 };
 
 }  // namespace ml

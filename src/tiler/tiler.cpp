@@ -80,6 +80,8 @@ class BandWriter : public CoverageWriter {
     texture_ready_ = false;
     lut_ = nullptr;
   }
+  // The whole triangle's view_triangle for a split piece's texture planes (valid while it is tiled).
+  void use_whole_view(const ViewTriangle* whole_view) { whole_view_ = whole_view; }
   // Textured pieces (texture/): the pager, and the view their texture planes are built in.
   void use_textures(TexturePager* pager, const View* view, TextureSegment* segment_rows) {
     pager_ = pager->active() ? pager : nullptr;
@@ -243,9 +245,14 @@ class BandWriter : public CoverageWriter {
 
   // The piece's texel table for `samples` samples of its texture's `bytes`, looked up once for its
   // blocks: again only when the pager has made one since, or for a block large enough to have a
-  // table of the colour made (never for a small triangle: fewer samples in all than a table has).
+  // table of the colour made; a small triangle's is the texture's white one.
   [[gnu::noinline]] void lookup_lut(const uint8_t* bytes, uint32_t samples, bool small) {
-    if (small) samples = 0;
+    if (small) {  // the texture's white table (TexturePager::white_lut)
+      lut_ = pager_->white_lut(texture_, bytes);
+      lut_colour_ = 0xFFFFFF;
+      lut_generation_ = pager_->lut_generation();
+      return;
+    }
     if (!lut_ || lut_generation_ != pager_->lut_generation() ||
         (lut_colour_ != colors_.flat && samples >= TexturePager::kLutMinSamples)) {
       lut_ = pager_->texel_lut(texture_, colors_.flat, bytes, samples, &lut_colour_);
@@ -1153,6 +1160,7 @@ bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
   ScreenTriangle parts[kMaxClipTriangles];
   const int n = project_triangle(view_, view, facing, parts, false);  // the tiler reads no depths
   writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0, split ? nullptr : &view);
+  ViewTriangle whole_view;  // a split piece's whole triangle, when projected below (its texture planes take it too)
   for (int i = 0; i < n; ++i) {
     const int f = band_.factor;
     ConvexPoly poly;
@@ -1162,7 +1170,9 @@ bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
     poly_edges(parts[i], &poly);
     if (n == 1 && split && tiler_.box_visible(box)) {
       ScreenTriangle whole_parts[kMaxClipTriangles];
-      if (project_triangle(view_, whole(), facing, whole_parts, false) == 1) {
+      view_triangle(view_, whole(), &whole_view);
+      writer_->use_whole_view(&whole_view);
+      if (project_triangle(view_, whole_view, facing, whole_parts, false) == 1) {
         ConvexPoly whole_poly;
         part_box(whole_parts[0], &whole_poly);
         poly_edges(whole_parts[0], &whole_poly);
