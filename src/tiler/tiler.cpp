@@ -802,6 +802,12 @@ class TilerFrame {
   // The node's children ordered for a front-to-back walk: the one on the eye's side of its plane
   // first (kNone where there is none). One side test a visit, shared by the drawing walk and the plan's.
   void children(const BspNode& node, uint32_t* near, uint32_t* far) const;
+  // BSP node `index` without its box: the decoder inline on 64-bit hosts (where the walk decodes each
+  // node twice a band, and inline it reads only the fields used), out of line on the boards (flash).
+  BspNode node_at(uint32_t index) const {
+    if (!BandPlan::kExtras) return bsp_node_unboxed(scene_, index);
+    return scene_.wide ? scene_detail::node<uint32_t>(scene_, index) : scene_detail::node<uint16_t>(scene_, index);
+  }
   Status finish(Status s, const Arena& arena) {
     st_->peak_arena_bytes = uint32_t(arena.peak());
     return s;
@@ -955,7 +961,7 @@ void TilerFrame::plan_textures() {
     BspFrame& f = stack_[sp - 1];
     const uint32_t index = f & ~kNearDone;
     if (index >= scene_.bsp_node_count) break;
-    const BspNode node = bsp_node_unboxed(scene_, index);
+    const BspNode node = node_at(index);
     uint32_t near, far;
     children(node, &near, &far);
     if (!(f & kNearDone)) {
@@ -995,7 +1001,7 @@ Status TilerFrame::walk_bsp() {
     BspFrame& f = stack_[sp - 1];
     const uint32_t index = f & ~kNearDone;
     if (index >= scene_.bsp_node_count) return error(StatusCode::BadScene, "BSP child out of range");
-    const BspNode node = bsp_node_unboxed(scene_, index);
+    const BspNode node = node_at(index);
     uint32_t near, far;
     children(node, &near, &far);
     if (!(f & kNearDone)) {
