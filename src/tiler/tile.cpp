@@ -219,14 +219,7 @@ void poly_in_samples(const ScreenTriangle& tri, const TriangleSetup& setup, int 
                      int height, ConvexPoly* out, bool jittered) {
   poly_from_setup(setup, out);
   if (factor == 1) return;
-  int32_t min_x = tri.v[0].x, max_x = min_x, min_y = tri.v[0].y, max_y = min_y;
-  for (int i = 1; i < 3; ++i) {
-    min_x = min_of(min_x, tri.v[i].x);
-    max_x = max_of(max_x, tri.v[i].x);
-    min_y = min_of(min_y, tri.v[i].y);
-    max_y = max_of(max_y, tri.v[i].y);
-  }
-  sample_box(min_x, min_y, max_x, max_y, factor, width, height, jittered, out);
+  triangle_sample_box(tri, factor, width, height, jittered, out);
 }
 
 TriageMask edge_triage_mask(const int64_t corner[4]) {

@@ -64,6 +64,19 @@ inline void sample_box(int32_t min_x, int32_t min_y, int32_t max_x, int32_t max_
   out->max_y = min_of<int32_t>(height * factor - 1, (max_y - half) >> bits);
 }
 
+// sample_box of a screen triangle's vertices (poly_in_samples's box).
+inline void triangle_sample_box(const ScreenTriangle& tri, int factor, int width, int height, bool jittered,
+                                ConvexPoly* out) {
+  int32_t min_x = tri.v[0].x, max_x = min_x, min_y = tri.v[0].y, max_y = min_y;
+  for (int i = 1; i < 3; ++i) {
+    min_x = min_of(min_x, tri.v[i].x);
+    max_x = max_of(max_x, tri.v[i].x);
+    min_y = min_of(min_y, tri.v[i].y);
+    max_y = max_of(max_y, tri.v[i].y);
+  }
+  sample_box(min_x, min_y, max_x, max_y, factor, width, height, jittered, out);
+}
+
 // The edges of poly_in_samples alone (setup_triangle's): a caller that rejects most polygons by their
 // box computes the edges of the others only.
 void poly_edges(const ScreenTriangle& tri, ConvexPoly* out);

@@ -1097,14 +1097,7 @@ uint16_t TilerFrame::plan_bands(const Vec3i world[3], const ViewTriangle& view) 
 }
 
 void TilerFrame::part_box(const ScreenTriangle& part, ConvexPoly* poly) const {
-  int32_t min_x = part.v[0].x, max_x = min_x, min_y = part.v[0].y, max_y = min_y;
-  for (int i = 1; i < 3; ++i) {
-    min_x = min_of(min_x, part.v[i].x);
-    max_x = max_of(max_x, part.v[i].x);
-    min_y = min_of(min_y, part.v[i].y);
-    max_y = max_of(max_y, part.v[i].y);
-  }
-  sample_box(min_x, min_y, max_x, max_y, band_.factor, camera_.width, camera_.height, jittered(options_), poly);
+  triangle_sample_box(part, band_.factor, camera_.width, camera_.height, jittered(options_), poly);
 }
 
 bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
