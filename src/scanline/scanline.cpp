@@ -644,7 +644,7 @@ struct Renderer {
       l.generation = pager.lut_generation();
       l.untabled = 0;
     }
-    if (!l.lut && ++l.untabled >= TexturePager::kLutMinSamples) {
+    if ((!l.lut || l.lut_colour != c) && ++l.untabled >= TexturePager::kLutMinSamples && !planes_of(slot, id).exact) {
       l.lut = pager.texel_lut(texture, c, bytes, l.untabled, &l.lut_colour);
       l.generation = pager.lut_generation();
     }
@@ -671,10 +671,20 @@ struct Renderer {
       for (uint32_t i = 0; i < n; ++i) out[i] = a.color[0];
       return true;
     }
-    Pixel lut_colour;
-    const Pixel* lut = pager.texel_lut(texture, a.color[0], bytes, n, &lut_colour);
-    texture_row(planes_of(slot, a.id), scene->texture_texels[texture], bytes, lut, lut_colour, a.color[0], x0, y,
-                int32_t(n), out);
+    // The slot's table, looked up once for its rows: again only when the pager has made one since,
+    // or for a run long enough to have a table of the colour made.
+    // (A small triangle's has fewer samples in all than a table has entries: never one of its colour.)
+    SlotLut& l = tex_lut[slot];
+    const Pixel c = a.color[0];
+    TexturePlanes& planes = planes_of(slot, a.id);
+    if (l.generation != pager.lut_generation() || l.colour != c || !l.lut ||
+        (l.lut_colour != c && n >= TexturePager::kLutMinSamples && !planes.exact)) {
+      l.lut = pager.texel_lut(texture, c, bytes, planes.exact ? 0 : n, &l.lut_colour);
+      l.colour = c;
+      l.generation = pager.lut_generation();
+      l.untabled = 0;
+    }
+    texture_row(planes, scene->texture_texels[texture], bytes, l.lut, l.lut_colour, c, x0, y, int32_t(n), out);
     return true;
   }
   bool textured(uint32_t slot) const { return tex_of && tex_of[slot] != kNone; }

@@ -130,6 +130,7 @@ void make_texture_planes(const View& view, const Vec3i world[3], const int32_t u
   out->row_mask = 0;
   out->one.y = -1;
   out->piece.y = -1;
+  out->exact = false;
 }
 
 void use_segment_rows(TexturePlanes* p, TextureSegment* rows, int count_bits) {
@@ -173,9 +174,37 @@ void exact_texture_uv(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out
   }
 }
 
+void exact_texture_row(const TexturePlanes& p, int32_t x, int32_t y, int32_t n, int32_t (*uv)[2]) {
+  // exact_texture_uv's steps, the planes stepped along the row in locals (no denominator or flags kept).
+  int64_t e0 = p.a[0] * x + p.b[0] * y + p.k[0], e1 = p.a[1] * x + p.b[1] * y + p.k[1];
+  int64_t e2 = p.a[2] * x + p.b[2] * y + p.k[2];
+  const int64_t a0 = p.a[0], a1 = p.a[1], a2 = p.a[2];
+  const int64_t u0 = p.uv[0][0], u1 = p.uv[1][0], u2 = p.uv[2][0];
+  const int64_t v0 = p.uv[0][1], v1 = p.uv[1][1], v2 = p.uv[2][1];
+  for (int32_t j = 0; j < n; ++j, e0 += a0, e1 += a1, e2 += a2) {
+    const int shift = max_of(0, bit_length(magnitude(e0) | magnitude(e1) | magnitude(e2)) - kWeightKeep);
+    int64_t w0 = e0 >> shift, w1 = e1 >> shift, w2 = e2 >> shift;
+    int64_t total = w0 + w1 + w2;
+    if (total < 0) total = -total, w0 = -w0, w1 = -w1, w2 = -w2;
+    if (total == 0) {
+      uv[j][0] = p.uv[0][0];
+      uv[j][1] = p.uv[0][1];
+      continue;
+    }
+    uv[j][0] = int32_t(clamp_to<int64_t>(div_floor(u0 * w0 + u1 * w1 + u2 * w2, total), INT32_MIN, INT32_MAX));
+    uv[j][1] = int32_t(clamp_to<int64_t>(div_floor(v0 * w0 + v1 * w1 + v2 * w2, total), INT32_MIN, INT32_MAX));
+  }
+}
+
 const TexturePiece& texture_piece(TexturePlanes& p, int32_t x, int32_t y) {
   TexturePiece& piece = p.piece;
   if (y == piece.y && x >= piece.x && x - piece.x < (int32_t(1) << piece.bits)) return piece;
+  if (p.exact) {  // a small triangle: the sample alone
+    ExactUv e;
+    exact_texture_uv(p, x, y, &e);
+    piece = TexturePiece{x, y, 0, {e.uv[0], e.uv[1]}, {0, 0}};
+    return piece;
+  }
   TextureSegment& sg = segment_at(p, x & ~(kTextureSegment - 1), y);
   const int32_t bits = sg.bits;
   piece.y = y;
@@ -217,6 +246,17 @@ void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, 
   const int error_bits = t.filter == uint8_t(TextureFilter::Bilinear) ? kTextureAffineErrorBitsBilinear
                                                                       : kTextureAffineErrorBitsNearest;
   make_texture_planes(view, world, uv, den, ox, oy, t.width, t.height, error_bits, out);
+  int32_t sx[3], sy[3];
+  if (!project_unclipped_positions(view, world, sx, sy)) return;
+  // The lattice rows and columns of samples within the vertices' box: sample X lies at subpixel
+  // (256 X + ox) / den.
+  const int64_t lo_x = min_of(sx[0], min_of(sx[1], sx[2])), hi_x = max_of(sx[0], max_of(sx[1], sx[2]));
+  const int64_t lo_y = min_of(sy[0], min_of(sy[1], sy[2])), hi_y = max_of(sy[0], max_of(sy[1], sy[2]));
+  const int64_t x0 = floor_shift(lo_x * den - ox + kSubpixelOne - 1, kSubpixelBits);
+  const int64_t x1 = floor_shift(hi_x * den - ox, kSubpixelBits);
+  const int64_t y0 = floor_shift(lo_y * den - oy + kSubpixelOne - 1, kSubpixelBits);
+  const int64_t y1 = floor_shift(hi_y * den - oy, kSubpixelBits);
+  out->exact = x1 - x0 < kTextureExactSide && y1 - y0 < kTextureExactSide;
 }
 
 }  // namespace ml

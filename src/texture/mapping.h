@@ -26,6 +26,13 @@
 // Segments whose ends have D of different signs or zero, or saturated coordinates, are cut down to
 // single samples. tests/texture/mapping_test.cpp checks the bound against the exact division and
 // tests/oracle/texture_vs_oracle_test.cpp the images against the double-precision texturer.
+//
+// Small triangles are divided at every sample instead (TexturePlanes::exact): a triangle the view
+// does not clip whose lattice sample box is less than kTextureExactSide samples a side. Their rows
+// are a few samples long, and the perspective of a real model's small faces (often seen at a
+// slant) cuts their segments into pieces of a few samples anyway: deciding a segment (two exact
+// ends and the bound) for such a row costs more than dividing each of its samples, stepping the
+// planes along the row (exact_texture_row). The coordinates are then exact: no error at all.
 
 #pragma once
 #include <stdint.h>
@@ -42,6 +49,7 @@ constexpr int32_t kTextureSegment = 1 << kTextureSegmentBits;
 constexpr int kTextureAffineErrorBitsNearest = 5;
 constexpr int kTextureAffineErrorBitsBilinear = 7;
 constexpr int kTextureAffineShiftBits = 3;
+constexpr int32_t kTextureExactSide = 16;  // small triangles: sample boxes narrower and lower than this
 
 // Exact texture coordinates at one sample, and what deciding a segment needs about them.
 struct ExactUv {
@@ -72,6 +80,7 @@ struct TexturePlanes {
   int32_t uv[3][2];           // the triangle's TEXCOORD_0, Q16.16
   int32_t size_bits[2];       // log2 of the texture's width and height: the error bound is in its texels
   int32_t error_bits;         // the affine error bound allowed: 2^-error_bits texel
+  bool exact;                 // a small triangle: every sample divided out (no segments)
   uint64_t whole_denom;       // texture_segment_whole's threshold on |sum e_i| (65 dd)
   // Caches, so that drawing costs about one exact division a segment: the segments decided (one,
   // or one per row of a few rows for a renderer that draws blocks, use_segment_rows), the piece
@@ -96,6 +105,10 @@ void use_segment_rows(TexturePlanes* planes, TextureSegment* rows, int count_bit
 // The exact coordinates at lattice sample (X, Y) >= 0: sum uv_i e_i / sum e_i, floored.
 void exact_texture_uv(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out);
 
+// exact_texture_uv's coordinates of samples x .. x + n - 1 of row y (x >= 0), into uv: the planes
+// stepped along the row, one division a coordinate and sample.
+void exact_texture_row(const TexturePlanes& p, int32_t x, int32_t y, int32_t n, int32_t (*uv)[2]);
+
 // The length bits of the affine pieces of the segment between exact ends s and e, kTextureSegmentBits
 // down to 0: the error bound above, in 16-bit mantissas.
 int texture_segment_bits(const TexturePlanes& p, const ExactUv& s, const ExactUv& e);
@@ -113,7 +126,8 @@ inline bool texture_segment_whole(const TexturePlanes& p, const ExactUv& s, cons
          min_of(magnitude(s.denom), magnitude(e.denom)) >= p.whole_denom;
 }
 
-// The affine piece holding lattice sample (x, y) >= 0 (the segment rules above).
+// The affine piece holding lattice sample (x, y) >= 0 (the segment rules above; for a small
+// triangle the sample alone, exact).
 const TexturePiece& texture_piece(TexturePlanes& p, int32_t x, int32_t y);
 
 // Texture coordinates (Q16.16) at lattice sample (X, Y) >= 0: exact at piece ends, affine between.
@@ -129,7 +143,8 @@ inline void texture_uv(TexturePlanes& p, int32_t x, int32_t y, int32_t uv[2]) {
 uint32_t triangle_texture(const Scene& scene, uint32_t id);
 
 // make_texture_planes for triangle `id` of the scene (its world positions and TEXCOORD_0), drawn with
-// texture `texture`.
+// texture `texture`, and whether it is small (exact: its sample box from its projected vertices, so
+// that both renderers decide alike).
 void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, uint32_t texture, int32_t den,
                              int32_t ox, int32_t oy, TexturePlanes* out);
 

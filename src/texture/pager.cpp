@@ -200,9 +200,10 @@ const Pixel* TexturePager::texel_lut(uint32_t t, Pixel colour, const uint8_t* by
   const bool make = samples >= kLutMinSamples;
   *lut_colour = colour;
   if (const Pixel* lut = cached_lut(t, colour, bytes, make)) return lut;
-  if (scene_->texture_texels[t].filter == uint8_t(TextureFilter::Bilinear)) return nullptr;
+  // The texels alone, the colour applied per sample: one table a texture whatever the colour, so
+  // it is made for any number of samples (a model's small triangles each have their own colour).
   *lut_colour = 0xFFFFFF;
-  return cached_lut(t, 0xFFFFFF, bytes, false);
+  return cached_lut(t, 0xFFFFFF, bytes, true);
 }
 
 const Pixel* TexturePager::cached_lut(uint32_t t, Pixel colour, const uint8_t* bytes, bool make) {

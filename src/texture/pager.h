@@ -73,10 +73,11 @@ class TexturePager {
 
   // The texel table (texture/sampler.h make_texel_lut) texture_row takes for `samples` samples of
   // texture t drawn in `colour`, and the colour it was made for (*lut_colour): the table of that
-  // colour, else (nearest filtering) the white one when cached, the product then made per sample.
-  // Tables come from a cache of kLutSlots in the arena; one is made from `bytes` (t's texels, from
-  // get()) over the least recently used only for kLutMinSamples samples or more, so small pieces do
-  // not pay for a table they would hardly use. Null: none (texels decoded one by one).
+  // colour, else the white one (t's texels alone), the product then made per sample.
+  // Tables come from a cache of kLutSlots in the arena, made from `bytes` (t's texels, from get())
+  // over the least recently used: one of a colour only for kLutMinSamples samples or more, so small
+  // pieces do not pay for a table they would hardly use; the white one whenever needed (one serves
+  // every colour). Null: none (a texture index out of range).
   // Tables outlive evictions of their texture.
   static constexpr uint32_t kLutSlots = 4;
   static constexpr uint32_t kLutMinSamples = 32;

@@ -453,19 +453,54 @@ Pixel sample_texture(const TextureTexels& t, const uint8_t* bytes, const int32_t
 
 namespace {
 
+// The colour at uv through a table of this texture for a colour, `after` left to apply (white: none):
+// nearest, the texel x after; bilinear, the filter of the texels each x after (as textured_colour).
 template <TexelFormat F>
 Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel after, const int32_t uv[2]) {
   const LutTexels<F> fetch(t, bytes, lut);
-  if (t.filter == uint8_t(TextureFilter::Bilinear)) return bilinear<false>(t, uv[0], uv[1], fetch);
+  if (t.filter == uint8_t(TextureFilter::Bilinear))  // (modulate_texel leaves a texel as it is for white)
+    return bilinear<false>(t, uv[0], uv[1], [&](int32_t x, int32_t y) { return modulate_texel(fetch(x, y), after); });
   const int64_t su = int64_t(uv[0]) * t.width, sv = int64_t(uv[1]) * t.height;
   return modulate_texel(fetch(wrap(su >> 16, t.width, t.wrap_s), wrap(sv >> 16, t.height, t.wrap_t)), after);
 }
+
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+// A small triangle's samples (TexturePlanes::exact): exact coordinates a row of up to kExactChunk
+// samples at a time, each sample's colour through the table (nearest filtering: its texel taken
+// here, format F known) or decoded, without one. (The firmware, ML_TEXTURE_RUNS_GENERAL_ONLY, for its
+// code budget: texture_rows' samples one by one, each exact.)
+constexpr int32_t kExactChunk = 16;
+
+template <TexelFormat F>
+void exact_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
+                Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out) {
+  int32_t uv[kExactChunk][2];
+  const bool nearest = lut && t.filter != uint8_t(TextureFilter::Bilinear);
+  const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;
+  const LutTexels<F> fetch(t, bytes, lut);
+  const int sb[2] = {16 - p.size_bits[0], 16 - p.size_bits[1]};  // floor(u W / 2^16) for W = 2^size_bits
+  for (int32_t r = 0; r < rows; ++r)
+    for (int32_t at = 0; at < n; at += kExactChunk) {
+      const int32_t m = min_of(kExactChunk, n - at);
+      exact_texture_row(p, x + at, y + r, m, uv);
+      if (nearest) {
+        for (int32_t i = 0; i < m; ++i) {
+          const Pixel texel =
+              fetch(wrap(uv[i][0] >> sb[0], t.width, t.wrap_s), wrap(uv[i][1] >> sb[1], t.height, t.wrap_t));
+          *out++ = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
+        }
+        continue;
+      }
+      for (int32_t i = 0; i < m; ++i)
+        *out++ = lut ? sample_texture(t, bytes, lut, lut_colour, uv[i], colour) : textured_colour(t, bytes, uv[i], colour);
+    }
+}
+#endif
 
 }  // namespace
 
 Pixel sample_texture(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                      const int32_t uv[2], Pixel colour) {
-  if (t.filter == uint8_t(TextureFilter::Bilinear) && lut_colour != colour) return textured_colour(t, bytes, uv, colour);
   const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;
   switch (TexelFormat(t.format)) {
     case TexelFormat::Palette8: return sample_lut<TexelFormat::Palette8>(t, bytes, lut, after, uv);
@@ -499,17 +534,31 @@ void make_texel_lut(const TextureTexels& t, const uint8_t* bytes, Pixel colour, 
 
 void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                   Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out) {
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+  if (p.exact) {
+    switch (TexelFormat(t.format)) {
+      case TexelFormat::Palette8: return exact_rows<TexelFormat::Palette8>(p, t, bytes, lut, lut_colour, colour, x, y, n, rows, out);
+      case TexelFormat::Grey4: return exact_rows<TexelFormat::Grey4>(p, t, bytes, lut, lut_colour, colour, x, y, n, rows, out);
+      case TexelFormat::Rgb565: return exact_rows<TexelFormat::Rgb565>(p, t, bytes, lut, lut_colour, colour, x, y, n, rows, out);
+      default: break;
+    }
+  }
+#endif
+  const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;  // the product left per sample
   const bool bilinear = t.filter == uint8_t(TextureFilter::Bilinear);
   if (!lut || (bilinear && lut_colour != colour)) {
     for (int32_t r = 0; r < rows; ++r)
       for (int32_t i = 0; i < n; ++i) {
         int32_t uv[2];
         texture_uv(p, x + i, y + r, uv);
-        *out++ = textured_colour(t, bytes, uv, colour);
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+        *out++ = lut ? sample_texture(t, bytes, lut, lut_colour, uv, colour) : textured_colour(t, bytes, uv, colour);
+#else
+        *out++ = textured_colour(t, bytes, uv, colour);  // the same colours, without the table's code
+#endif
       }
     return;
   }
-  const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;  // the product left per sample
   const PieceRun run = piece_run_of(t, after);
   if (!run) {
     for (int32_t i = 0; i < n * rows; ++i) out[i] = colour;

@@ -31,7 +31,7 @@ inline Pixel modulate_texel(Pixel texel, Pixel colour) {
 }
 
 // sample_texture(texture, bytes, uv, colour) through a make_texel_lut table of this texture for
-// lut_colour (colour, or for nearest filtering white): the same colour.
+// lut_colour (colour, or white: the colour applied per texel): the same colour.
 Pixel sample_texture(const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                      const int32_t uv[2], Pixel colour);
 
@@ -47,7 +47,8 @@ void make_texel_lut(const TextureTexels& texture, const uint8_t* bytes, Pixel co
 // planes, the texture's filter and wraps) drawn in `colour`, into out: the same colours as
 // sample_texture(texture, bytes, texture_uv(...), colour) sample by sample. lut: a make_texel_lut
 // table of this texture for colour `lut_colour`, or null (texels decoded one by one); lut_colour is
-// either `colour` (no product per sample) or, for nearest filtering, white.
+// either `colour` (no product per sample) or white (the product per texel). A small triangle's
+// planes (TexturePlanes::exact) take the exact coordinates at every sample.
 // texture_rows: `rows` such rows (y, y + 1, ...) of n samples each, one after another in out (the
 // format, filter and wraps looked at once for them all: the tiler's blocks).
 void texture_rows(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,

@@ -75,6 +75,7 @@ class BandWriter : public CoverageWriter {
     wrote_piece_ = false;
     texture_ = pager_ ? triangle_texture(*scene, triangle) : kNone;
     texture_ready_ = false;
+    lut_ = nullptr;
   }
   // Textured pieces (texture/): the pager, and the view their texture planes are built in.
   void use_textures(TexturePager* pager, const View* view, TextureSegment* segment_rows) {
@@ -119,6 +120,7 @@ class BandWriter : public CoverageWriter {
         stats_->pixel_writes += uint64_t(__builtin_popcountll(mask));
         return true;
       }
+      if (texture_ != kNone && !colors_.smooth && write_textured_block(mask, x, band_y + top_)) return true;
       return CoverageWriter::write_block(mask, x, band_y);
     }
     if (cosine_) {
@@ -227,14 +229,48 @@ class BandWriter : public CoverageWriter {
     texture_uv(texture_planes(), px, py, uv);
     return sample_texture(scene_->texture_texels[texture_], bytes, uv, c);
   }
-  TexturePlanes& texture_planes() {
-    if (!texture_ready_) {
-      triangle_texture_planes(*scene_, *view_, triangle_, texture_, 1, kSubpixelHalf, kSubpixelHalf,
-                              &texture_planes_);
-      use_segment_rows(&texture_planes_, segment_rows_, kSegmentRowBits);
-      texture_ready_ = true;
-    }
+  TexturePlanes& texture_planes() { return texture_ready_ ? texture_planes_ : make_texture_planes(); }
+  [[gnu::noinline]] TexturePlanes& make_texture_planes() {  // once a piece, off the per-block paths
+    triangle_texture_planes(*scene_, *view_, triangle_, texture_, 1, kSubpixelHalf, kSubpixelHalf, &texture_planes_);
+    use_segment_rows(&texture_planes_, segment_rows_, kSegmentRowBits);
+    texture_ready_ = true;
     return texture_planes_;
+  }
+
+  // The piece's texel table for `samples` samples of its texture's `bytes`, looked up once for its
+  // blocks: again only when the pager has made one since, or for a block large enough to have a
+  // table of the colour made (never for a small triangle: fewer samples in all than a table has).
+  [[gnu::noinline]] void lookup_lut(const uint8_t* bytes, uint32_t samples, bool small) {
+    if (small) samples = 0;
+    if (!lut_ || lut_generation_ != pager_->lut_generation() ||
+        (lut_colour_ != colors_.flat && samples >= TexturePager::kLutMinSamples)) {
+      lut_ = pager_->texel_lut(texture_, colors_.flat, bytes, samples, &lut_colour_);
+      lut_generation_ = pager_->lut_generation();
+    }
+  }
+
+  // An 8x8 block's newly covered samples (mask) of a small flat textured triangle, one texture_row a
+  // run of a row: no rectangles through write() (its block is a few short rows). False for other
+  // pieces, or when the pager falls back (the caller's runs then draw them).
+  [[gnu::noinline]] bool write_textured_block(uint64_t mask, int x, int y) {
+    TexturePlanes& planes = texture_planes();
+    if (!planes.exact) return false;  // larger pieces: rectangles of rows (write_textured)
+    const uint8_t* bytes = pager_->get(texture_);
+    if (!bytes) return false;
+    const uint64_t n = uint64_t(__builtin_popcountll(mask));
+    stats_->pixel_writes += n;
+    stats_->shading_calls += n;
+    lookup_lut(bytes, uint32_t(n), true);
+    const TextureTexels& t = scene_->texture_texels[texture_];
+    while (mask != 0) {
+      const int at = __builtin_ctzll(mask), row = at >> 3, start = at & 7;
+      const uint32_t rest = uint32_t(mask >> at) & (0xFFu >> start);  // the row from the run's start
+      const int run = __builtin_ctz(~rest);                             // ends at the row's end at the latest
+      texture_row(planes, t, bytes, lut_, lut_colour_, colors_.flat, x + start, y + row, run, row_);
+      out_.put_row(x + start, y + row, row_, run);
+      mask &= ~(((uint64_t(1) << run) - 1) << at);
+    }
+    return true;
   }
 
   // A block of a textured piece: flat colours a few rows at a time (texture/sampler.h texture_rows),
@@ -252,9 +288,10 @@ class BandWriter : public CoverageWriter {
       return;
     }
     const TextureTexels& t = scene_->texture_texels[texture_];
-    Pixel lut_colour;
-    const Pixel* lut = pager_->texel_lut(texture_, colors_.flat, bytes, uint32_t(w) * uint32_t(h), &lut_colour);
     TexturePlanes& planes = texture_planes();
+    lookup_lut(bytes, uint32_t(w) * uint32_t(h), planes.exact);
+    const Pixel* lut = lut_;
+    const Pixel lut_colour = lut_colour_;
     if (w <= kRowPixels) {  // as many whole rows at once as the row buffer holds
       const int per = kRowPixels / w;
       for (int yy = y; yy < y + h; yy += per) {
@@ -335,6 +372,9 @@ class BandWriter : public CoverageWriter {
   bool texture_ready_ = false;
   TexturePlanes texture_planes_{};
   TextureSegment* segment_rows_ = nullptr;
+  const Pixel* lut_ = nullptr;  // the piece's texel table (null: not looked up yet), its colour and generation
+  Pixel lut_colour_ = 0;
+  uint32_t lut_generation_ = 0;
 };
 
 // A BSP piece cut from a triangle has split vertices quantized like any vertex, so its outer edges

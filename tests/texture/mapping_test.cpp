@@ -135,6 +135,37 @@ TEST(TextureMapping, WholeSegmentTestImpliesTheBound) {
   EXPECT_GT(cut_near, 10000);  // just under the threshold the bound does cut segments: the test is tight
 }
 
+// Small triangles (TexturePlanes::exact) take the exact coordinates at every sample, and the row
+// function steps the planes to the same values as dividing each sample on its own.
+TEST(TextureMapping, SmallTrianglesAreExactAtEverySample) {
+  std::mt19937 rng(20261201);
+  size_t samples = 0;
+  for (int n = 0; n < 200; ++n) {
+    const Case c = random_case(rng);
+    ml::TexturePlanes p;
+    ml::make_texture_planes(c.view, c.world, c.uv, 1, ml::kSubpixelHalf, ml::kSubpixelHalf, c.width, c.height,
+                            c.error_bits, &p);
+    p.exact = true;
+    for (int32_t y = 1; y < 240; y += 29) {
+      const int32_t x = int32_t(rng() % 300), len = 1 + int32_t(rng() % 20);
+      std::vector<int32_t> row(size_t(2 * len));
+      ml::exact_texture_row(p, x, y, len, reinterpret_cast<int32_t(*)[2]>(row.data()));
+      for (int32_t i = 0; i < len; ++i) {
+        ml::ExactUv exact;
+        ml::exact_texture_uv(p, x + i, y, &exact);
+        int32_t got[2];
+        ml::texture_uv(p, x + i, y, got);
+        ASSERT_EQ(got[0], exact.uv[0]) << "case " << n << " sample " << x + i << "," << y;
+        ASSERT_EQ(got[1], exact.uv[1]) << "case " << n << " sample " << x + i << "," << y;
+        ASSERT_EQ(row[size_t(2 * i)], exact.uv[0]) << "case " << n << " sample " << x + i << "," << y;
+        ASSERT_EQ(row[size_t(2 * i + 1)], exact.uv[1]) << "case " << n << " sample " << x + i << "," << y;
+        ++samples;
+      }
+    }
+  }
+  EXPECT_GT(samples, 10000u);
+}
+
 // A texture of random bytes in format f (any bytes are valid: palette indices past the palette read
 // its last colour).
 struct RandomTexture {
@@ -172,7 +203,9 @@ TEST(TextureMapping, RowsGiveTheColoursSampleBySample) {
     const Case c = random_case(rng);
     const RandomTexture tex(rng, formats[n % 3], c.width, c.height);
     const ml::Pixel colour = n % 4 == 0 ? 0xFFFFFF : ml::Pixel(rng() & 0xFFFFFF);
-    ml::TexturePlanes rows = planes_for(c, tex.t), one = rows;
+    ml::TexturePlanes rows = planes_for(c, tex.t);
+    rows.exact = n % 5 == 1;  // a small triangle's rows: every sample exact
+    ml::TexturePlanes one = rows;
     std::vector<ml::Pixel> tinted(ml::kTexelLutEntries), white(ml::kTexelLutEntries);
     ml::make_texel_lut(tex.t, tex.bytes.data(), colour, tinted.data());
     ml::make_texel_lut(tex.t, tex.bytes.data(), 0xFFFFFF, white.data());
@@ -180,10 +213,9 @@ TEST(TextureMapping, RowsGiveTheColoursSampleBySample) {
       // Spans of random lengths and starts, as the renderers' blocks and runs come.
       for (int32_t x = 0; x < 320;) {
         const int32_t len = std::min<int32_t>(320 - x, 1 + int32_t(rng() % 70));
-        const int table = int(rng() % 3);  // none, the colour's, white (nearest only)
-        const bool bilinear = tex.t.filter == uint8_t(ml::TextureFilter::Bilinear);
-        const ml::Pixel* lut = table == 0 ? nullptr : (table == 1 || bilinear ? tinted.data() : white.data());
-        const ml::Pixel lut_colour = table == 2 && !bilinear ? 0xFFFFFF : colour;
+        const int table = int(rng() % 3);  // none, the colour's, white (the colour applied per sample)
+        const ml::Pixel* lut = table == 0 ? nullptr : (table == 1 ? tinted.data() : white.data());
+        const ml::Pixel lut_colour = table == 2 ? 0xFFFFFF : colour;
         std::vector<ml::Pixel> got(size_t(len), 0);
         ml::texture_row(rows, tex.t, tex.bytes.data(), lut, lut_colour, colour, x, y, len, got.data());
         for (int32_t i = 0; i < len; ++i) {
@@ -257,7 +289,9 @@ TEST(TextureMapping, BlocksOfRowsGiveTheColoursSampleBySample) {
       for (auto& uv : c.uv) uv[0] = int32_t(rng() % 65536), uv[1] = int32_t(rng() % 65536);
     const RandomTexture tex(rng, formats[n % 3], c.width, c.height);
     const ml::Pixel colour = n % 4 == 0 ? 0xFFFFFF : ml::Pixel(rng() & 0xFFFFFF);
-    ml::TexturePlanes blocks = planes_for(c, tex.t), one = blocks;
+    ml::TexturePlanes blocks = planes_for(c, tex.t);
+    blocks.exact = n % 5 == 1;  // a small triangle's blocks: every sample exact
+    ml::TexturePlanes one = blocks;
     std::vector<ml::TextureSegment> segment_rows(16);
     ml::use_segment_rows(&blocks, segment_rows.data(), 4);
     std::vector<ml::Pixel> lut(ml::kTexelLutEntries);
