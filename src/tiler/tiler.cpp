@@ -1217,8 +1217,13 @@ bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
     part_box(parts[i], &poly);
     ConvexPoly box;  // the band's part of the box alone
     if (!band_.clip_box(poly, &box)) continue;  // a third of the parts: their edges are never needed
+    // A split piece's box is tested before its edges are made: most such boxes the walk reaches are
+    // hidden (pieces behind what is drawn, near where the BSP cut them), and need neither the whole
+    // triangle's edges nor tiling.
+    const bool whole_clip = n == 1 && split;
+    if (whole_clip && !tiler_.box_visible(box)) continue;
     poly_edges(parts[i], &poly);
-    if (n == 1 && split && tiler_.box_visible(box)) {
+    if (whole_clip) {
       ScreenTriangle whole_parts[kMaxClipTriangles];
       view_triangle(view_, whole(), &whole_view);
       writer_->use_whole_view(&whole_view);
