@@ -653,9 +653,12 @@ struct Renderer {
       l.generation = pager.lut_generation();
       l.untabled = 0;
     }
-    if ((!l.lut || l.lut_colour != c) && ++l.untabled >= TexturePager::kLutMinSamples && !planes_of(slot, id).exact) {
-      l.lut = pager.texel_lut(texture, c, bytes, l.untabled, &l.lut_colour);
-      l.generation = pager.lut_generation();
+    if (!l.lut || l.lut_colour != c) {
+      ++l.untabled;  // samples shaded without a table of their own colour
+      if (l.untabled >= TexturePager::kLutMinSamples && !planes_of(slot, id).exact) {
+        l.lut = pager.texel_lut(texture, c, bytes, l.untabled, &l.lut_colour);
+        l.generation = pager.lut_generation();
+      }
     }
     if (l.lut) return sample_texture(t, bytes, l.lut, l.lut_colour, uv, c);
     return sample_texture(t, bytes, uv, c);

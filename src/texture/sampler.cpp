@@ -3,6 +3,15 @@
 namespace ml {
 namespace {
 
+// The nearest loops unrolled by 8 on the host (the loop's count, compare and branch once every 8
+// samples: about 2 instructions a sample less); not in the firmware (ML_TEXTURE_RUNS_GENERAL_ONLY), for
+// its code budget.
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+#define ML_UNROLL_TEXEL_LOOP _Pragma("GCC unroll 8")
+#else
+#define ML_UNROLL_TEXEL_LOOP
+#endif
+
 // A texel index along one axis of `size` texels (a power of two) under wrap mode M.
 template <TextureWrap M>
 __attribute__((always_inline)) inline int32_t wrap_as(int64_t i, int32_t size) {
@@ -253,6 +262,7 @@ void piece_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexe
   if (Repeat) {
     const int32_t mask_u = int32_t(t.width) - 1, mask_v = int32_t(t.height) - 1;
     if (after == 0xFFFFFF) {
+      ML_UNROLL_TEXEL_LOOP
       for (int32_t i = 0; i < n; ++i, au += s[0], av += s[1])
         out[i] = fetch(int32_t(au >> shift) & mask_u, int32_t(av >> shift) & mask_v);
       return;
@@ -271,6 +281,7 @@ void piece_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexe
 template <typename Fetch>
 __attribute__((always_inline)) inline void nearest_inside(const Fetch& fetch, int64_t au, int64_t av, int64_t su,
                                                           int64_t sv, int shift, int32_t n, Pixel* out) {
+  ML_UNROLL_TEXEL_LOOP
   for (int32_t i = 0; i < n; ++i, au += su, av += sv) out[i] = fetch(int32_t(au >> shift), int32_t(av >> shift));
 }
 

@@ -580,6 +580,54 @@ TEST(TexturePager, TilerEvictsByItsBspOrder) {
   EXPECT_EQ(banded.stats.texture_reloads, 2 * (reached - 1));
 }
 
+// The white table is kept at hand from one white_lut call to the next only while no table is made:
+// after its slot is taken by tables of other colours, white_lut makes it again, and every answer holds
+// that texture's texels alone (a table make_texel_lut makes for white).
+TEST(TexturePager, WhiteTableMemoFollowsEvictions) {
+  const mlhost::LoadedScene& s = load("builtin:banded");
+  ASSERT_GE(s.scene.texture_texels_count, 2u);
+  std::vector<uint8_t> memory(ml::TexturePager::arena_bytes(s.scene, ml::kTexturePoolAll));
+  ml::Arena arena(memory.data(), memory.size());
+  ml::TexturePager pager;
+  ml::Stats stats;
+  ASSERT_TRUE(pager.begin(s.scene, nullptr, ml::kTexturePoolAll, arena, &stats).ok());
+  pager.finish_plan();
+  const uint8_t* bytes[2] = {pager.get(0), pager.get(1)};
+  ASSERT_TRUE(bytes[0] && bytes[1]);
+  // The entries a table of texture t holds (the rest of its slot is never read).
+  auto used = [&](uint32_t t) -> size_t {
+    switch (ml::TexelFormat(s.scene.texture_texels[t].format)) {
+      case ml::TexelFormat::Grey4: return 16;
+      case ml::TexelFormat::Rgb565: return 128;
+      default: return ml::kTexelLutEntries;
+    }
+  };
+  auto white_of = [&](uint32_t t) {
+    std::vector<ml::Pixel> lut(ml::kTexelLutEntries);
+    ml::make_texel_lut(s.scene.texture_texels[t], bytes[t], 0xFFFFFF, lut.data());
+    lut.resize(used(t));
+    return lut;
+  };
+  auto table = [&](uint32_t t, const ml::Pixel* lut) { return std::vector<ml::Pixel>(lut, lut + used(t)); };
+  const ml::Pixel* first = pager.white_lut(0, bytes[0]);
+  ASSERT_NE(first, nullptr);
+  EXPECT_EQ(table(0, first), white_of(0));
+  const uint32_t generation = pager.lut_generation();
+  EXPECT_EQ(pager.white_lut(0, bytes[0]), first);  // the memo: nothing made
+  EXPECT_EQ(pager.lut_generation(), generation);
+  // Tables of texture 1 in as many colours as there are slots take every slot, the white one too.
+  for (uint32_t i = 0; i < ml::TexturePager::kLutSlots; ++i) {
+    ml::Pixel made_for = 0;
+    ASSERT_NE(pager.texel_lut(1, 0x102030 + i, bytes[1], ml::TexturePager::kLutMinSamples, &made_for), nullptr);
+    EXPECT_EQ(made_for, ml::Pixel(0x102030 + i));
+  }
+  EXPECT_EQ(pager.lut_generation(), generation + ml::TexturePager::kLutSlots);
+  EXPECT_EQ(table(0, pager.white_lut(0, bytes[0])), white_of(0));
+  EXPECT_EQ(pager.lut_generation(), generation + ml::TexturePager::kLutSlots + 1);  // made again
+  EXPECT_EQ(table(1, pager.white_lut(1, bytes[1])), white_of(1));  // another texture: not the memo
+  EXPECT_EQ(table(0, pager.white_lut(0, bytes[0])), white_of(0));
+}
+
 TEST(TexturePager, ArenaBytesIncludeThePool) {
   const mlhost::LoadedScene& s = load("builtin:banded");
   const ml::Camera cam = textest::camera_for(s, 96, 64);
