@@ -840,7 +840,8 @@ class TilerFrame {
   bool subtree_hidden(uint32_t index, uint32_t subtree_pieces);
   // Projects, culls and tiles one piece into the band's pyramid; false when the sink refused a write.
   // entry: the piece's plan entry (unknown without the plan), in this band or unknown.
-  bool draw_piece(uint32_t index, uint16_t entry);
+  // Inline in the walk, its one caller (out of line, its calls cost 2.8 M of 2CylinderEngine's 102 M at 320x240).
+  [[gnu::always_inline]] bool draw_piece(uint32_t index, uint16_t entry);
   // The plan entry of a piece facing the eye, from its view-space vertices.
   uint16_t plan_bands(const ViewTriangle& view) const;
   // The box of the samples a projected part can cover (no edges yet).
@@ -1170,7 +1171,7 @@ void TilerFrame::part_box(const ScreenTriangle& part, ConvexPoly* poly) const {
   triangle_sample_box(part, band_.factor, camera_.width, camera_.height, jittered(options_), poly);
 }
 
-bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
+inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
   writer_->clear_piece();
   const bool planned = plan_.active();
   const bool known = entry != plan_.unknown();
