@@ -232,8 +232,9 @@ class BandWriter : public CoverageWriter {
     const uint8_t* bytes = pager_->get(texture_);
     if (!bytes) return c;
     int32_t uv[2];
-    texture_uv(texture_planes(), px, py, uv);
-    return sample_texture(scene_->texture_texels[texture_], bytes, uv, c);
+    TexturePlanes& planes = texture_planes();
+    texture_uv(planes, px, py, uv);
+    return sample_texture(scene_->texture_texels[texture_], bytes, uv, c, planes.exact);
   }
   TexturePlanes& texture_planes() { return texture_ready_ ? texture_planes_ : make_texture_planes(); }
   [[gnu::noinline]] TexturePlanes& make_texture_planes() {  // once a piece, off the per-block paths

@@ -281,6 +281,42 @@ TEST(TextureSampler, BilinearBlendsNeighboursAndMatchesNearestAtCentres) {
   EXPECT_EQ(ml::red_of(ml::sample_texture(bi.t, bi.bytes.data(), mid)), 4u);
 }
 
+// A small triangle's bilinear filtering blends the texels, then multiplies the blend by the colour
+// once (docs/textures.md): every filtered level 0..255 (a black and a white texel blended at every
+// fraction) times every level of each colour channel, decoded and through the white table, against
+// modulate_texel of the filtered colour. Larger triangles multiply the texels first.
+TEST(TextureSampler, SmallTrianglesBilinearFiltersThenModulates) {
+  ml::TextureTexels t{};
+  t.width = 2;
+  t.height = 1;
+  t.format = uint8_t(ml::TexelFormat::Rgb565);
+  t.wrap_s = t.wrap_t = uint8_t(ml::TextureWrap::ClampToEdge);
+  t.filter = uint8_t(ml::TextureFilter::Bilinear);
+  t.bytes = 4;
+  const uint8_t bytes[] = {0x00, 0x00, 0xFF, 0xFF};  // black, white
+  std::vector<ml::Pixel> white(ml::kTexelLutEntries);
+  ml::make_texel_lut(t, bytes, 0xFFFFFF, white.data());
+  std::set<uint32_t> levels;
+  for (int32_t f = 0; f <= 256; ++f) {
+    const int32_t uv[2] = {16384 + f * 128, 32768};  // texel centres at u = 1/4, 3/4: blended by f / 256
+    const ml::Pixel filtered = ml::sample_texture(t, bytes, uv);
+    levels.insert(filtered & 0xFF);
+    for (uint32_t c = 0; c < 256; ++c) {
+      const ml::Pixel colour = ml::rgb(c, 255 - c, c ^ 0x5A);
+      const ml::Pixel want = ml::modulate_texel(filtered, colour);
+      ASSERT_EQ(ml::sample_texture(t, bytes, uv, colour, true), want) << f << " " << c;
+      ASSERT_EQ(ml::sample_texture(t, bytes, white.data(), 0xFFFFFF, uv, colour, true), want) << f << " " << c;
+    }
+  }
+  EXPECT_EQ(levels.size(), 256u);
+  // Texels first: the blend of the two texels each multiplied (here black stays black).
+  const int32_t half[2] = {16384 + 64 * 128, 32768};  // a quarter of the way: 64 / 256
+  const ml::Pixel colour = ml::rgb(200, 100, 7);
+  const ml::Pixel each = ml::rgb((200 * 64 + 128) >> 8, (100 * 64 + 128) >> 8, (7 * 64 + 128) >> 8);
+  EXPECT_EQ(ml::sample_texture(t, bytes, half, colour, false), each);
+  EXPECT_EQ(ml::sample_texture(t, bytes, half, colour, true), ml::modulate_texel(ml::rgb(64, 64, 64), colour));
+}
+
 TEST(TextureSampler, FormatsDecodeAndBadPaletteIndicesStayInside) {
   ml::TextureTexels t{};
   t.width = 2;
