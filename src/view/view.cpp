@@ -340,7 +340,10 @@ int project_triangle(const View& view, const ViewTriangle& tri, int facing, Scre
   return n;
 }
 
-bool view_outside_rows(const View& view, const Vec3i p[3], int32_t row0, int32_t row1) {
+namespace {
+
+// view_outside_rows, inline in both its entries (the boards link only triangle_outside_rows).
+inline bool outside_rows(const View& view, const Vec3i p[3], int32_t row0, int32_t row1) {
   // Vertex i projects to y_i = center_y + focal y / z (before rounding by at most half a subpixel).
   // Above the band: every y_i < row0 * 256, so no sample centre (row0 * 256 + 128 and below) is
   // reached; below: every y_i > (row1 + 1) * 256. Compared as focal y + (center_y - limit) z, z > 0:
@@ -358,11 +361,9 @@ bool view_outside_rows(const View& view, const Vec3i p[3], int32_t row0, int32_t
   return above || below;
 }
 
-namespace {
-
 // The view-space depth and height of a world triangle's vertices (x left 0), as far as the row tests
 // read them: false when a vertex lies behind the near plane (then neither test rules anything out).
-bool view_rows_of(const View& view, const Vec3i world[3], Vec3i p[3]) {
+inline bool view_rows_of(const View& view, const Vec3i world[3], Vec3i p[3]) {
   for (int i = 0; i < 3; ++i) {
     p[i].x = 0;
     p[i].z = view_coordinate(view, view.forward, world[i]);
@@ -374,9 +375,13 @@ bool view_rows_of(const View& view, const Vec3i world[3], Vec3i p[3]) {
 
 }  // namespace
 
+bool view_outside_rows(const View& view, const Vec3i p[3], int32_t row0, int32_t row1) {
+  return outside_rows(view, p, row0, row1);
+}
+
 bool triangle_outside_rows(const View& view, const Vec3i world[3], int32_t row0, int32_t row1) {
   Vec3i p[3];
-  return view_rows_of(view, world, p) && view_outside_rows(view, p, row0, row1);
+  return view_rows_of(view, world, p) && outside_rows(view, p, row0, row1);
 }
 
 bool view_row_span(const View& view, const Vec3i p[3], int64_t* first, int64_t* last) {
