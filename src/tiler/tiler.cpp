@@ -1241,8 +1241,13 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
     part_box(parts[i], &poly);
     ConvexPoly box;  // the band's part of the box alone
     if (!band_.clip_box(poly, &box)) continue;  // a third of the parts: their edges are never needed
+    // A split piece's box is tested before its edges are made: most such boxes the walk reaches are
+    // hidden (pieces behind what is drawn, near where the BSP cut them), and need neither the whole
+    // triangle's edges nor tiling.
+    const bool whole_clip = n == 1 && split;
+    if (whole_clip && !tiler_.box_visible(box)) continue;
     poly_edges(parts[i], &poly);
-    if (n == 1 && split && tiler_.box_visible(box)) {
+    if (whole_clip) {
       // The whole triangle, projected (its texture planes take its view too).
       ScreenTriangle whole_parts[kMaxClipTriangles];
       if (cached) vertices_.view(tri.batch, tri.v, &whole_view); else view_triangle(view_, whole(), &whole_view);
