@@ -51,25 +51,29 @@ struct PixelSum {
 // (tiler_plan_bytes; frames of several bands, scenes with texels): a piece the band edges cut is
 // drawn in every band it reaches, and its planes (the cross products and the small-triangle box,
 // about 650 instructions) are the same in each. Direct-mapped by triangle id: a triangle whose set
-// another took is made again, as without the cache (the same planes, the same images).
+// another took is made again, as without the cache (the same planes, the same images). On 64-bit
+// hosts only (as the band plan's extras): a board has neither the RAM to spare nor the flash.
 class PlaneCache {
  public:
+  static constexpr bool kActive = sizeof(void*) >= 8;
   static constexpr uint32_t kSets = 64;
   static size_t bytes(const Scene& scene, int bands) {
-    return bands < 2 || scene.texture_texels_count == 0 ? 0 : arena_worst_case(sizeof(Set) * kSets, alignof(Set));
+    return !kActive || bands < 2 || scene.texture_texels_count == 0 ? 0
+                                                                   : arena_worst_case(sizeof(Set) * kSets, alignof(Set));
   }
   void init(Arena& arena) {
+    if (!kActive) return;
     sets_ = arena.allocate_array<Set>(kSets);
     for (uint32_t i = 0; sets_ && i < kSets; ++i) sets_[i].triangle = kNone;
   }
   // Triangle `triangle`'s planes as made (nothing cached in them yet), or null.
   const TexturePlanes* find(uint32_t triangle) const {
-    if (!sets_) return nullptr;
+    if (!kActive || !sets_) return nullptr;
     const Set& set = sets_[triangle & (kSets - 1)];
     return set.triangle == triangle ? &set.planes : nullptr;
   }
   void keep(uint32_t triangle, const TexturePlanes& planes) {
-    if (!sets_) return;
+    if (!kActive || !sets_) return;
     Set& set = sets_[triangle & (kSets - 1)];
     set.triangle = triangle;
     set.planes = planes;
