@@ -564,6 +564,14 @@ void exact_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, 
     for (int32_t at = 0; at < run.n; at += kExactChunk) {
       const int32_t m = min_of(kExactChunk, run.n - at);
       exact_texture_row(p, run.x + at, run.y, m, uv);
+      if (nearest && repeat) {  // wrapping is a mask (wrap_as<Repeat>)
+        const int32_t mu = int32_t(t.width) - 1, mv = int32_t(t.height) - 1;
+        for (int32_t i = 0; i < m; ++i) {
+          const Pixel texel = fetch((uv[i][0] >> sb[0]) & mu, (uv[i][1] >> sb[1]) & mv);
+          *out++ = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
+        }
+        continue;
+      }
       if (nearest) {
         for (int32_t i = 0; i < m; ++i) {
           const Pixel texel =
