@@ -20,8 +20,8 @@ namespace ml {
 size_t render_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
 
 // Arena bytes beyond render_arena_bytes that make a frame faster when the arena has them free (the
-// tiler's band plan, tiler_plan_bytes; for a frame of one band its facing bits alone, which 32-bit boards
-// do not keep: 0 there). Same image either way.
+// tiler's band plan and its BSP subtrees' screen rectangles, tiler_plan_bytes; for a frame of one band
+// the plan's facing bits alone, which 32-bit boards do not keep: 0 there). Same image either way.
 size_t render_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
 
 Status render(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,

@@ -640,9 +640,10 @@ struct Renderer {
     const uint8_t* bytes = pager.get(texture);
     if (!bytes) return c;
     int32_t uv[2];
-    texture_uv(planes_of(slot, id), x, y, uv);
+    TexturePlanes& planes = planes_of(slot, id);
+    texture_uv(planes, x, y, uv);
     const TextureTexels& t = scene->texture_texels[texture];
-    if (act[slot].flags & kSmooth) return sample_texture(t, bytes, uv, c);
+    if (act[slot].flags & kSmooth) return sample_texture(t, bytes, uv, c, planes.exact);
     // A flat piece's samples keep the texel table the pager has cached for its colour (the same
     // colours as without it; looked up again when the pager makes a table). Without one, the pager
     // makes one once the slot has shaded as many samples as a run it would make one for.
@@ -653,12 +654,15 @@ struct Renderer {
       l.generation = pager.lut_generation();
       l.untabled = 0;
     }
-    if ((!l.lut || l.lut_colour != c) && ++l.untabled >= TexturePager::kLutMinSamples && !planes_of(slot, id).exact) {
-      l.lut = pager.texel_lut(texture, c, bytes, l.untabled, &l.lut_colour);
-      l.generation = pager.lut_generation();
+    if (!l.lut || l.lut_colour != c) {
+      ++l.untabled;  // samples shaded without a table of their own colour
+      if (l.untabled >= TexturePager::kLutMinSamples && !planes.exact) {
+        l.lut = pager.texel_lut(texture, c, bytes, l.untabled, &l.lut_colour);
+        l.generation = pager.lut_generation();
+      }
     }
-    if (l.lut) return sample_texture(t, bytes, l.lut, l.lut_colour, uv, c);
-    return sample_texture(t, bytes, uv, c);
+    if (l.lut) return sample_texture(t, bytes, l.lut, l.lut_colour, uv, c, planes.exact);
+    return sample_texture(t, bytes, uv, c, planes.exact);
   }
   TexturePlanes& planes_of(uint32_t slot, uint32_t id) {
     uint32_t& t = tex_of[slot];

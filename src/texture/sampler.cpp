@@ -3,6 +3,15 @@
 namespace ml {
 namespace {
 
+// The nearest loops unrolled by 8 on the host (the loop's count, compare and branch once every 8
+// samples: about 2 instructions a sample less); not in the firmware (ML_TEXTURE_RUNS_GENERAL_ONLY), for
+// its code budget.
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+#define ML_UNROLL_TEXEL_LOOP _Pragma("GCC unroll 8")
+#else
+#define ML_UNROLL_TEXEL_LOOP
+#endif
+
 // A texel index along one axis of `size` texels (a power of two) under wrap mode M.
 template <TextureWrap M>
 __attribute__((always_inline)) inline int32_t wrap_as(int64_t i, int32_t size) {
@@ -97,38 +106,79 @@ inline Pixel unspread(Spread s) { return Pixel(s | (s >> 24)) & 0xFFFFFF; }
 inline Spread lerp_spread(Spread a, Spread b, uint32_t f) {
   return ((a * (256 - f) + b * f + 0x0000008000800080ull) >> 8) & kSpreadMask;
 }
+// A colour's channels as multipliers of the lanes (blue, red, green).
+struct Tint {
+  uint64_t b, r, g;
+};
+inline Tint tint_of(Pixel c) { return Tint{c & 0xFF, (c >> 16) & 0xFF, (c >> 8) & 0xFF}; }
+// modulate_texel on a colour in lanes: the three products in their lanes (each <= 255 * 255 <
+// 2^16), each rounded as round(p / 255) = (x + (x >> 8)) >> 8 with x = p + 128 (<= 65,153, and the
+// sum <= 65,407: no carry between lanes). The same values as modulate_texel's ((p + 128) 257) >> 16
+// for every texel and colour channel (tests/texture/texture_test.cpp tries them all).
+inline Spread modulate_spread(Spread s, const Tint& c) {
+  const uint64_t x = (s & 0xFF) * c.b + (s & 0xFF0000) * c.r + (s & 0xFF00000000ull) * c.g + 0x0000008000800080ull;
+  return ((x + ((x >> 8) & kSpreadMask)) >> 8) & kSpreadMask;
+}
 #else
 using Spread = Pixel;
 inline Spread spread(Pixel c) { return c; }
 inline Pixel unspread(Spread s) { return s; }
 inline Spread lerp_spread(Spread a, Spread b, uint32_t f) { return lerp(a, b, f); }
+using Tint = Pixel;
+inline Tint tint_of(Pixel c) { return c; }
+inline Spread modulate_spread(Spread s, Tint c) { return modulate_texel(s, c); }
 #endif
 
-// Bilinear filtering at uv of the texels fetch(x, y) gives; Repeat: both axes repeat (wrapping is
-// a mask).
-template <bool Repeat, typename Fetch>
-__attribute__((always_inline)) inline Pixel bilinear(const TextureTexels& t, int32_t u, int32_t v, Fetch fetch) {
+// The 2x2 texels bilinear filtering blends at uv, and the blend's weights (1/256).
+struct Taps {
+  int32_t xa, xb, ya, yb;
+  uint32_t fx, fy;
+};
+
+// Repeat: both axes repeat (wrapping is a mask).
+template <bool Repeat>
+__attribute__((always_inline)) inline Taps bilinear_taps(const TextureTexels& t, int32_t u, int32_t v) {
   // Texel space: u * width in Q16 (|u| < 2^31, width <= 2^10: below 2^41). Texel centres sit at
   // half-integers: shift by half a texel, then blend the 2x2 neighbours.
   const int64_t bu = int64_t(u) * t.width - 32768, bv = int64_t(v) * t.height - 32768;
   const int64_t x0 = bu >> 16, y0 = bv >> 16;
-  const uint32_t fx = uint32_t((bu >> 8) & 0xFF), fy = uint32_t((bv >> 8) & 0xFF);
-  int32_t xa, xb, ya, yb;
+  Taps k;
+  k.fx = uint32_t((bu >> 8) & 0xFF);
+  k.fy = uint32_t((bv >> 8) & 0xFF);
   if (Repeat) {
     const int32_t mu = int32_t(t.width) - 1, mv = int32_t(t.height) - 1;
-    xa = int32_t(x0) & mu;
-    xb = (xa + 1) & mu;
-    ya = int32_t(y0) & mv;
-    yb = (ya + 1) & mv;
+    k.xa = int32_t(x0) & mu;
+    k.xb = (k.xa + 1) & mu;
+    k.ya = int32_t(y0) & mv;
+    k.yb = (k.ya + 1) & mv;
   } else {
-    xa = wrap(x0, t.width, t.wrap_s);
-    xb = wrap(x0 + 1, t.width, t.wrap_s);
-    ya = wrap(y0, t.height, t.wrap_t);
-    yb = wrap(y0 + 1, t.height, t.wrap_t);
+    k.xa = wrap(x0, t.width, t.wrap_s);
+    k.xb = wrap(x0 + 1, t.width, t.wrap_s);
+    k.ya = wrap(y0, t.height, t.wrap_t);
+    k.yb = wrap(y0 + 1, t.height, t.wrap_t);
   }
-  const Pixel top = lerp(fetch(xa, ya), fetch(xb, ya), fx);
-  const Pixel bottom = lerp(fetch(xa, yb), fetch(xb, yb), fx);
-  return lerp(top, bottom, fy);
+  return k;
+}
+
+// Bilinear filtering at uv of the texels fetch(x, y) gives.
+template <bool Repeat, typename Fetch>
+__attribute__((always_inline)) inline Pixel bilinear(const TextureTexels& t, int32_t u, int32_t v, Fetch fetch) {
+  const Taps k = bilinear_taps<Repeat>(t, u, v);
+  const Pixel top = lerp(fetch(k.xa, k.ya), fetch(k.xb, k.ya), k.fx);
+  const Pixel bottom = lerp(fetch(k.xa, k.yb), fetch(k.xb, k.yb), k.fx);
+  return lerp(top, bottom, k.fy);
+}
+
+// A small triangle's bilinear filtering (the texels filtered, then multiplied: docs/textures.md):
+// modulate_texel(bilinear(t, u, v, fetch), colour) for tint = tint_of(colour), the blend and the
+// product in lanes (the same values).
+template <bool Repeat, typename Fetch>
+__attribute__((always_inline)) inline Pixel bilinear_tinted(const TextureTexels& t, int32_t u, int32_t v, Fetch fetch,
+                                                            const Tint& tint) {
+  const Taps k = bilinear_taps<Repeat>(t, u, v);
+  const Spread top = lerp_spread(spread(fetch(k.xa, k.ya)), spread(fetch(k.xb, k.ya)), k.fx);
+  const Spread bottom = lerp_spread(spread(fetch(k.xa, k.yb)), spread(fetch(k.xb, k.yb)), k.fx);
+  return unspread(modulate_spread(lerp_spread(top, bottom, k.fy), tint));
 }
 
 // Stepped coordinates a (start) and s (step) of two axes, to be shifted right by shift[0] and
@@ -218,13 +268,17 @@ __attribute__((always_inline)) inline void bilinear_run(const TextureTexels& t, 
 }
 
 // The textured colour at uv decoding texels one by one: nearest, the texel x colour; bilinear, the
-// filter of the texels x colour (each neighbour modulated, as a modulated texel table gives them).
-Pixel textured_colour(const TextureTexels& t, const uint8_t* bytes, const int32_t uv[2], Pixel colour) {
+// filter of the texels x colour (each neighbour modulated, as a modulated texel table gives them),
+// or for a small triangle the filter of the texels, x colour.
+Pixel textured_colour(const TextureTexels& t, const uint8_t* bytes, const int32_t uv[2], Pixel colour, bool small) {
   if (t.filter != uint8_t(TextureFilter::Bilinear)) {
     const int64_t su = int64_t(uv[0]) * t.width, sv = int64_t(uv[1]) * t.height;
     return modulate_texel(texel(t, bytes, wrap(su >> 16, t.width, t.wrap_s), wrap(sv >> 16, t.height, t.wrap_t)),
                           colour);
   }
+  if (small)
+    return bilinear_tinted<false>(t, uv[0], uv[1], [&](int32_t x, int32_t y) { return texel(t, bytes, x, y); },
+                                  tint_of(colour));
   return bilinear<false>(t, uv[0], uv[1],
                          [&](int32_t x, int32_t y) { return modulate_texel(texel(t, bytes, x, y), colour); });
 }
@@ -253,6 +307,7 @@ void piece_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexe
   if (Repeat) {
     const int32_t mask_u = int32_t(t.width) - 1, mask_v = int32_t(t.height) - 1;
     if (after == 0xFFFFFF) {
+      ML_UNROLL_TEXEL_LOOP
       for (int32_t i = 0; i < n; ++i, au += s[0], av += s[1])
         out[i] = fetch(int32_t(au >> shift) & mask_u, int32_t(av >> shift) & mask_v);
       return;
@@ -271,6 +326,7 @@ void piece_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexe
 template <typename Fetch>
 __attribute__((always_inline)) inline void nearest_inside(const Fetch& fetch, int64_t au, int64_t av, int64_t su,
                                                           int64_t sv, int shift, int32_t n, Pixel* out) {
+  ML_UNROLL_TEXEL_LOOP
   for (int32_t i = 0; i < n; ++i, au += su, av += sv) out[i] = fetch(int32_t(au >> shift), int32_t(av >> shift));
 }
 
@@ -433,22 +489,27 @@ PieceRun piece_run_of(const TextureTexels& t, Pixel after) {
 }  // namespace
 
 Pixel sample_texture(const TextureTexels& t, const uint8_t* bytes, const int32_t uv[2]) {
-  return textured_colour(t, bytes, uv, 0xFFFFFF);
+  return textured_colour(t, bytes, uv, 0xFFFFFF, false);
 }
 
-Pixel sample_texture(const TextureTexels& t, const uint8_t* bytes, const int32_t uv[2], Pixel colour) {
-  return textured_colour(t, bytes, uv, colour);
+Pixel sample_texture(const TextureTexels& t, const uint8_t* bytes, const int32_t uv[2], Pixel colour, bool small) {
+  return textured_colour(t, bytes, uv, colour, small);
 }
 
 namespace {
 
 // The colour at uv through a table of this texture for a colour, `after` left to apply (white: none):
-// nearest, the texel x after; bilinear, the filter of the texels each x after (as textured_colour).
+// nearest, the texel x after; bilinear, the filter of the texels each x after, or for a small
+// triangle (the white table) the filter of the texels x after (as textured_colour).
 template <TexelFormat F>
-Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel after, const int32_t uv[2]) {
+Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel after, const int32_t uv[2],
+                 bool small) {
   const LutTexels<F> fetch(t, bytes, lut);
-  if (t.filter == uint8_t(TextureFilter::Bilinear))  // (modulate_texel leaves a texel as it is for white)
+  if (t.filter == uint8_t(TextureFilter::Bilinear)) {
+    if (small) return bilinear_tinted<false>(t, uv[0], uv[1], fetch, tint_of(after));
+    // (modulate_texel leaves a texel as it is for white)
     return bilinear<false>(t, uv[0], uv[1], [&](int32_t x, int32_t y) { return modulate_texel(fetch(x, y), after); });
+  }
   const int64_t su = int64_t(uv[0]) * t.width, sv = int64_t(uv[1]) * t.height;
   return modulate_texel(fetch(wrap(su >> 16, t.width, t.wrap_s), wrap(sv >> 16, t.height, t.wrap_t)), after);
 }
@@ -456,7 +517,8 @@ Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut,
 #ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
 // A small triangle's samples (TexturePlanes::exact): exact coordinates a row of up to kExactChunk
 // samples at a time, each sample's colour through the table (nearest filtering: its texel taken
-// here, format F known) or decoded, without one. (The firmware, ML_TEXTURE_RUNS_GENERAL_ONLY, for its
+// here, format F known; bilinear, the white table's texels filtered, then multiplied) or decoded,
+// without one. (The firmware, ML_TEXTURE_RUNS_GENERAL_ONLY, for its
 // code budget: texture_rows' samples one by one, each exact.)
 constexpr int32_t kExactChunk = 16;
 
@@ -465,7 +527,9 @@ void exact_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, 
                 Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out) {
   int32_t uv[kExactChunk][2];
   const bool nearest = lut && t.filter != uint8_t(TextureFilter::Bilinear);
+  const bool filter_white = lut && !nearest && lut_colour == 0xFFFFFF;
   const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;
+  const Tint tint = tint_of(colour);
   const LutTexels<F> fetch(t, bytes, lut);
   const int sb[2] = {16 - p.size_bits[0], 16 - p.size_bits[1]};  // floor(u W / 2^16) for W = 2^size_bits
   const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
@@ -481,16 +545,16 @@ void exact_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, 
         }
         continue;
       }
-      if (lut) {  // bilinear: each texel times `after` (white: as it is), then the filter, as sample_texture
-        const auto modulated = [&](int32_t tx, int32_t ty) { return modulate_texel(fetch(tx, ty), after); };
+      if (filter_white) {  // bilinear: the filter of the texels, then the product, as sample_texture
         if (repeat)
-          for (int32_t i = 0; i < m; ++i) *out++ = bilinear<true>(t, uv[i][0], uv[i][1], modulated);
+          for (int32_t i = 0; i < m; ++i) *out++ = bilinear_tinted<true>(t, uv[i][0], uv[i][1], fetch, tint);
         else
-          for (int32_t i = 0; i < m; ++i) *out++ = bilinear<false>(t, uv[i][0], uv[i][1], modulated);
+          for (int32_t i = 0; i < m; ++i) *out++ = bilinear_tinted<false>(t, uv[i][0], uv[i][1], fetch, tint);
         continue;
       }
       for (int32_t i = 0; i < m; ++i)
-        *out++ = lut ? sample_texture(t, bytes, lut, lut_colour, uv[i], colour) : textured_colour(t, bytes, uv[i], colour);
+        *out++ = lut ? sample_texture(t, bytes, lut, lut_colour, uv[i], colour, true)
+                     : textured_colour(t, bytes, uv[i], colour, true);
     }
 }
 #endif
@@ -498,12 +562,15 @@ void exact_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, 
 }  // namespace
 
 Pixel sample_texture(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
-                     const int32_t uv[2], Pixel colour) {
+                     const int32_t uv[2], Pixel colour, bool small) {
+  // A small triangle's bilinear filter blends unmodulated texels: a table of a colour cannot serve it.
+  if (small && t.filter == uint8_t(TextureFilter::Bilinear) && lut_colour != 0xFFFFFF)
+    return textured_colour(t, bytes, uv, colour, true);
   const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;
   switch (TexelFormat(t.format)) {
-    case TexelFormat::Palette8: return sample_lut<TexelFormat::Palette8>(t, bytes, lut, after, uv);
-    case TexelFormat::Grey4: return sample_lut<TexelFormat::Grey4>(t, bytes, lut, after, uv);
-    case TexelFormat::Rgb565: return sample_lut<TexelFormat::Rgb565>(t, bytes, lut, after, uv);
+    case TexelFormat::Palette8: return sample_lut<TexelFormat::Palette8>(t, bytes, lut, after, uv, small);
+    case TexelFormat::Grey4: return sample_lut<TexelFormat::Grey4>(t, bytes, lut, after, uv, small);
+    case TexelFormat::Rgb565: return sample_lut<TexelFormat::Rgb565>(t, bytes, lut, after, uv, small);
     default: return colour;
   }
 }
@@ -544,15 +611,18 @@ void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes
 #endif
   const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;  // the product left per sample
   const bool bilinear = t.filter == uint8_t(TextureFilter::Bilinear);
-  if (!lut || (bilinear && lut_colour != colour)) {
+  // Bilinear runs blend the table's texels as they are: those of the colour, or white ones drawn in
+  // white (a small triangle's filter then product is the same).
+  if (!lut || (bilinear && (lut_colour != colour || (p.exact && colour != 0xFFFFFF)))) {
     for (int32_t r = 0; r < rows; ++r)
       for (int32_t i = 0; i < n; ++i) {
         int32_t uv[2];
         texture_uv(p, x + i, y + r, uv);
 #ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
-        *out++ = lut ? sample_texture(t, bytes, lut, lut_colour, uv, colour) : textured_colour(t, bytes, uv, colour);
+        *out++ = lut ? sample_texture(t, bytes, lut, lut_colour, uv, colour, p.exact)
+                     : textured_colour(t, bytes, uv, colour, p.exact);
 #else
-        *out++ = textured_colour(t, bytes, uv, colour);  // the same colours, without the table's code
+        *out++ = textured_colour(t, bytes, uv, colour, p.exact);  // the same colours, without the table's code
 #endif
       }
     return;

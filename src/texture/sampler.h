@@ -16,8 +16,11 @@ Pixel sample_texture(const TextureTexels& texture, const uint8_t* bytes, const i
 
 // The texture at uv drawn in `colour` (lighting, the base colour factor): nearest filtering gives
 // modulate_texel(texel, colour); bilinear filtering blends the four texels each modulated by colour
-// (so a table of modulated texels, below, gives the same colours).
-Pixel sample_texture(const TextureTexels& texture, const uint8_t* bytes, const int32_t uv[2], Pixel colour);
+// (so a table of modulated texels, below, gives the same colours), except for a small triangle
+// (`small`: TexturePlanes::exact), which blends the texels and modulates the blend once:
+// modulate_texel(filtered, colour) (its samples take the white table; docs/textures.md).
+Pixel sample_texture(const TextureTexels& texture, const uint8_t* bytes, const int32_t uv[2], Pixel colour,
+                     bool small);
 
 // texel * colour / 255 per channel, rounded: lighting (or the base colour factor) modulates a texel.
 inline Pixel modulate_texel(Pixel texel, Pixel colour) {
@@ -29,10 +32,11 @@ inline Pixel modulate_texel(Pixel texel, Pixel colour) {
   return ((((r + 128) * 257) >> 16) << 16) | ((((g + 128) * 257) >> 16) << 8) | (((b + 128) * 257) >> 16);  // round(p / 255)
 }
 
-// sample_texture(texture, bytes, uv, colour) through a make_texel_lut table of this texture for
-// lut_colour (colour, or white: the colour applied per texel): the same colour.
+// sample_texture(texture, bytes, uv, colour, small) through a make_texel_lut table of this texture for
+// lut_colour (colour, or white: the colour applied per texel, or per sample for a small triangle's
+// bilinear filter): the same colour.
 Pixel sample_texture(const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
-                     const int32_t uv[2], Pixel colour);
+                     const int32_t uv[2], Pixel colour, bool small);
 
 // A texel look-up table: a texture's colours decoded once (and modulated by one colour), so a
 // texel costs a load instead of a decode and a product. Palette8: the palette (indices past it read
@@ -44,10 +48,11 @@ void make_texel_lut(const TextureTexels& texture, const uint8_t* bytes, Pixel co
 
 // The textured colours of lattice samples x .. x + n - 1 of row y (texture coordinates from the
 // planes, the texture's filter and wraps) drawn in `colour`, into out: the same colours as
-// sample_texture(texture, bytes, texture_uv(...), colour) sample by sample. lut: a make_texel_lut
-// table of this texture for colour `lut_colour`, or null (texels decoded one by one); lut_colour is
-// either `colour` (no product per sample) or white (the product per texel). A small triangle's
-// planes (TexturePlanes::exact) take the exact coordinates at every sample.
+// sample_texture(texture, bytes, texture_uv(...), colour, planes.exact) sample by sample. lut: a
+// make_texel_lut table of this texture for colour `lut_colour`, or null (texels decoded one by one);
+// lut_colour is either `colour` (no product per sample) or white (the product per texel, or per
+// sample: a small triangle's bilinear filter). A small triangle's planes (TexturePlanes::exact) take
+// the exact coordinates at every sample.
 // texture_rows: `rows` such rows (y, y + 1, ...) of n samples each, one after another in out (the
 // format, filter and wraps looked at once for them all: the tiler's blocks).
 void texture_rows(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,

@@ -21,8 +21,10 @@ size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderO
 // a BSP piece, a byte up to 16 bands and two beyond: each piece's facing test and band range are worked
 // out once, not once per band; and two bits a triangle: its facing, tested once for all the pieces the
 // BSP split it into; on 32-bit targets a byte a piece alone; a frame of one band keeps the facing bits
-// alone, none on 32-bit targets). The tiler uses them when the arena has them free (the pieces' entries
-// alone when only those fit); the image is the same either way.
+// alone, none on 32-bit targets), and eight bytes a BSP node with several bands: the screen rectangle of
+// its subtree's box, worked out in the first band that tests it, not in every band. The tiler uses them
+// when the arena has them free (the pieces' entries first, the rectangles when they fit as well); the
+// image is the same either way.
 size_t tiler_plan_bytes(const Scene& scene, int bands);
 // cosine: the cosine-hump filter to use when options.filter asks for it (a CosineFilter); null leaves
 // it out of the image (such a render is Unsupported).

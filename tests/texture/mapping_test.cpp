@@ -221,11 +221,11 @@ TEST(TextureMapping, RowsGiveTheColoursSampleBySample) {
         for (int32_t i = 0; i < len; ++i) {
           int32_t uv[2];
           ml::texture_uv(one, x + i, y, uv);
-          const ml::Pixel want = ml::sample_texture(tex.t, tex.bytes.data(), uv, colour);
+          const ml::Pixel want = ml::sample_texture(tex.t, tex.bytes.data(), uv, colour, one.exact);
           ASSERT_EQ(got[size_t(i)], want) << "case " << n << " sample " << x + i << "," << y << " table " << table
                                           << " format " << int(tex.t.format) << " filter " << int(tex.t.filter);
           if (lut) {
-            ASSERT_EQ(ml::sample_texture(tex.t, tex.bytes.data(), lut, lut_colour, uv, colour), want);
+            ASSERT_EQ(ml::sample_texture(tex.t, tex.bytes.data(), lut, lut_colour, uv, colour, one.exact), want);
           }
           ++compared;
         }
@@ -265,7 +265,7 @@ TEST(TextureMapping, NearestRunsAcrossTextureEdgesGiveTheColoursSampleBySample) 
         for (int32_t i = 0; i < len; ++i) {
           int32_t at[2];
           ml::texture_uv(one, x + i, y, at);
-          ASSERT_EQ(got[size_t(i)], ml::sample_texture(tex.t, tex.bytes.data(), at, colour))
+          ASSERT_EQ(got[size_t(i)], ml::sample_texture(tex.t, tex.bytes.data(), at, colour, false))
               << "case " << n << " sample " << x + i << "," << y << " wraps " << int(tex.t.wrap_s)
               << int(tex.t.wrap_t) << " size " << c.width << "x" << c.height;
           ++compared;
@@ -305,7 +305,7 @@ TEST(TextureMapping, BlocksOfRowsGiveTheColoursSampleBySample) {
         for (int32_t i = 0; i < w; ++i) {
           int32_t uv[2];
           ml::texture_uv(one, x + i, y + r, uv);
-          ASSERT_EQ(got[size_t(r * w + i)], ml::sample_texture(tex.t, tex.bytes.data(), uv, colour))
+          ASSERT_EQ(got[size_t(r * w + i)], ml::sample_texture(tex.t, tex.bytes.data(), uv, colour, one.exact))
               << "case " << n << " sample " << x + i << "," << y + r << " format " << int(tex.t.format)
               << " filter " << int(tex.t.filter) << " wraps " << int(tex.t.wrap_s) << int(tex.t.wrap_t);
           ++compared;

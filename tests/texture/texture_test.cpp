@@ -281,6 +281,42 @@ TEST(TextureSampler, BilinearBlendsNeighboursAndMatchesNearestAtCentres) {
   EXPECT_EQ(ml::red_of(ml::sample_texture(bi.t, bi.bytes.data(), mid)), 4u);
 }
 
+// A small triangle's bilinear filtering blends the texels, then multiplies the blend by the colour
+// once (docs/textures.md): every filtered level 0..255 (a black and a white texel blended at every
+// fraction) times every level of each colour channel, decoded and through the white table, against
+// modulate_texel of the filtered colour. Larger triangles multiply the texels first.
+TEST(TextureSampler, SmallTrianglesBilinearFiltersThenModulates) {
+  ml::TextureTexels t{};
+  t.width = 2;
+  t.height = 1;
+  t.format = uint8_t(ml::TexelFormat::Rgb565);
+  t.wrap_s = t.wrap_t = uint8_t(ml::TextureWrap::ClampToEdge);
+  t.filter = uint8_t(ml::TextureFilter::Bilinear);
+  t.bytes = 4;
+  const uint8_t bytes[] = {0x00, 0x00, 0xFF, 0xFF};  // black, white
+  std::vector<ml::Pixel> white(ml::kTexelLutEntries);
+  ml::make_texel_lut(t, bytes, 0xFFFFFF, white.data());
+  std::set<uint32_t> levels;
+  for (int32_t f = 0; f <= 256; ++f) {
+    const int32_t uv[2] = {16384 + f * 128, 32768};  // texel centres at u = 1/4, 3/4: blended by f / 256
+    const ml::Pixel filtered = ml::sample_texture(t, bytes, uv);
+    levels.insert(filtered & 0xFF);
+    for (uint32_t c = 0; c < 256; ++c) {
+      const ml::Pixel colour = ml::rgb(c, 255 - c, c ^ 0x5A);
+      const ml::Pixel want = ml::modulate_texel(filtered, colour);
+      ASSERT_EQ(ml::sample_texture(t, bytes, uv, colour, true), want) << f << " " << c;
+      ASSERT_EQ(ml::sample_texture(t, bytes, white.data(), 0xFFFFFF, uv, colour, true), want) << f << " " << c;
+    }
+  }
+  EXPECT_EQ(levels.size(), 256u);
+  // Texels first: the blend of the two texels each multiplied (here black stays black).
+  const int32_t half[2] = {16384 + 64 * 128, 32768};  // a quarter of the way: 64 / 256
+  const ml::Pixel colour = ml::rgb(200, 100, 7);
+  const ml::Pixel each = ml::rgb((200 * 64 + 128) >> 8, (100 * 64 + 128) >> 8, (7 * 64 + 128) >> 8);
+  EXPECT_EQ(ml::sample_texture(t, bytes, half, colour, false), each);
+  EXPECT_EQ(ml::sample_texture(t, bytes, half, colour, true), ml::modulate_texel(ml::rgb(64, 64, 64), colour));
+}
+
 TEST(TextureSampler, FormatsDecodeAndBadPaletteIndicesStayInside) {
   ml::TextureTexels t{};
   t.width = 2;
@@ -578,6 +614,54 @@ TEST(TexturePager, TilerEvictsByItsBspOrder) {
   ASSERT_GE(reached, 2u);
   EXPECT_EQ(banded.stats.texture_loads, 3 + 2 * (reached - 1));
   EXPECT_EQ(banded.stats.texture_reloads, 2 * (reached - 1));
+}
+
+// The white table is kept at hand from one white_lut call to the next only while no table is made:
+// after its slot is taken by tables of other colours, white_lut makes it again, and every answer holds
+// that texture's texels alone (a table make_texel_lut makes for white).
+TEST(TexturePager, WhiteTableMemoFollowsEvictions) {
+  const mlhost::LoadedScene& s = load("builtin:banded");
+  ASSERT_GE(s.scene.texture_texels_count, 2u);
+  std::vector<uint8_t> memory(ml::TexturePager::arena_bytes(s.scene, ml::kTexturePoolAll));
+  ml::Arena arena(memory.data(), memory.size());
+  ml::TexturePager pager;
+  ml::Stats stats;
+  ASSERT_TRUE(pager.begin(s.scene, nullptr, ml::kTexturePoolAll, arena, &stats).ok());
+  pager.finish_plan();
+  const uint8_t* bytes[2] = {pager.get(0), pager.get(1)};
+  ASSERT_TRUE(bytes[0] && bytes[1]);
+  // The entries a table of texture t holds (the rest of its slot is never read).
+  auto used = [&](uint32_t t) -> size_t {
+    switch (ml::TexelFormat(s.scene.texture_texels[t].format)) {
+      case ml::TexelFormat::Grey4: return 16;
+      case ml::TexelFormat::Rgb565: return 128;
+      default: return ml::kTexelLutEntries;
+    }
+  };
+  auto white_of = [&](uint32_t t) {
+    std::vector<ml::Pixel> lut(ml::kTexelLutEntries);
+    ml::make_texel_lut(s.scene.texture_texels[t], bytes[t], 0xFFFFFF, lut.data());
+    lut.resize(used(t));
+    return lut;
+  };
+  auto table = [&](uint32_t t, const ml::Pixel* lut) { return std::vector<ml::Pixel>(lut, lut + used(t)); };
+  const ml::Pixel* first = pager.white_lut(0, bytes[0]);
+  ASSERT_NE(first, nullptr);
+  EXPECT_EQ(table(0, first), white_of(0));
+  const uint32_t generation = pager.lut_generation();
+  EXPECT_EQ(pager.white_lut(0, bytes[0]), first);  // the memo: nothing made
+  EXPECT_EQ(pager.lut_generation(), generation);
+  // Tables of texture 1 in as many colours as there are slots take every slot, the white one too.
+  for (uint32_t i = 0; i < ml::TexturePager::kLutSlots; ++i) {
+    ml::Pixel made_for = 0;
+    ASSERT_NE(pager.texel_lut(1, 0x102030 + i, bytes[1], ml::TexturePager::kLutMinSamples, &made_for), nullptr);
+    EXPECT_EQ(made_for, ml::Pixel(0x102030 + i));
+  }
+  EXPECT_EQ(pager.lut_generation(), generation + ml::TexturePager::kLutSlots);
+  EXPECT_EQ(table(0, pager.white_lut(0, bytes[0])), white_of(0));
+  EXPECT_EQ(pager.lut_generation(), generation + ml::TexturePager::kLutSlots + 1);  // made again
+  EXPECT_EQ(table(1, pager.white_lut(1, bytes[1])), white_of(1));  // another texture: not the memo
+  EXPECT_EQ(table(0, pager.white_lut(0, bytes[0])), white_of(0));
 }
 
 TEST(TexturePager, ArenaBytesIncludeThePool) {
