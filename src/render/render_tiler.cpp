@@ -28,7 +28,7 @@ size_t render_tiler_arena_bytes(const Scene& scene, const Camera& camera, const 
 
 size_t render_tiler_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
   const int rows = band_rows_for(effective_options(options).output, camera.height);
-  return tiler_plan_bytes(scene, rows < camera.height ? (camera.height + rows - 1) / rows : 1);
+  return tiler_plan_bytes(scene, rows < camera.height ? (camera.height + rows - 1) / rows : 1) + tiler_cache_bytes(scene);
 }
 
 Status render_tiler(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,

@@ -12,6 +12,14 @@ namespace {
 #define ML_UNROLL_TEXEL_LOOP
 #endif
 
+// Helpers of the run loops forced inline on the host (inlined or not, the loops around them compile
+// differently); the firmware leaves them to -Os, for its code budget.
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+#define ML_RUN_HELPER __attribute__((always_inline)) inline
+#else
+#define ML_RUN_HELPER inline
+#endif
+
 // A texel index along one axis of `size` texels (a power of two) under wrap mode M.
 template <TextureWrap M>
 __attribute__((always_inline)) inline int32_t wrap_as(int64_t i, int32_t size) {
@@ -185,7 +193,7 @@ __attribute__((always_inline)) inline Pixel bilinear_tinted(const TextureTexels&
 // shift[1]: the axis of the smaller shift is scaled up so that both take the larger one, returned
 // (floor(a 2^d / 2^(r + d)) = floor(a / 2^r)): one shift count in the loops (x86 shifts by a count
 // held in one register). |a|, |s| < 2^37 and d <= 10: within int64.
-inline int common_shift(int64_t a[2], int64_t s[2], const int shift[2]) {
+ML_RUN_HELPER int common_shift(int64_t a[2], int64_t s[2], const int shift[2]) {
   const int k = shift[0] < shift[1] ? 0 : 1, d = shift[1 - k] - shift[k];
   a[k] *= int64_t(1) << d;
   s[k] *= int64_t(1) << d;
@@ -195,7 +203,7 @@ inline int common_shift(int64_t a[2], int64_t s[2], const int shift[2]) {
 // Whether the texel indices a >> shift of samples 0 .. n - 1 (a stepped by s) all lie in
 // [0, last]: along a piece they are monotonic, so its ends decide. Wrapping leaves such indices as
 // they are, whatever the mode.
-inline bool within(int64_t a, int64_t s, int32_t n, int shift, int32_t last) {
+ML_RUN_HELPER bool within(int64_t a, int64_t s, int32_t n, int shift, int32_t last) {
   const int64_t first = a >> shift, end = (a + s * (n - 1)) >> shift;
   return first >= 0 && end >= 0 && first <= last && end <= last;
 }
@@ -276,11 +284,11 @@ Pixel textured_colour(const TextureTexels& t, const uint8_t* bytes, const int32_
     return modulate_texel(texel(t, bytes, wrap(su >> 16, t.width, t.wrap_s), wrap(sv >> 16, t.height, t.wrap_t)),
                           colour);
   }
-  if (small)
-    return bilinear_tinted<false>(t, uv[0], uv[1], [&](int32_t x, int32_t y) { return texel(t, bytes, x, y); },
-                                  tint_of(colour));
-  return bilinear<false>(t, uv[0], uv[1],
-                         [&](int32_t x, int32_t y) { return modulate_texel(texel(t, bytes, x, y), colour); });
+  // One filter for both orders (modulate_texel leaves a colour as it is for white): the code budget.
+  const Pixel first = small ? 0xFFFFFF : colour, then = small ? colour : 0xFFFFFF;
+  return modulate_texel(
+      bilinear<false>(t, uv[0], uv[1], [&](int32_t x, int32_t y) { return modulate_texel(texel(t, bytes, x, y), first); }),
+      then);
 }
 
 // n samples of one affine piece, from sample j of it, through the table (texels modulated by the
@@ -415,6 +423,21 @@ using PieceRun = void (*)(const TexturePiece& pc, const TexturePlanes& p, const 
                           const Pixel* lut, Pixel after, int64_t j, int32_t n, Pixel* out);
 
 #ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+// A bilinear run through the white table, each texel multiplied by `after` before the filter (as a
+// table of that colour gives them: a run too short to have one made). A function of its own, so that
+// piece_run's loops keep their code.
+template <TexelFormat F, bool Repeat>
+void bilinear_white_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& texture,
+                        const uint8_t* bytes, const Pixel* lut, Pixel after, int64_t j, int32_t n, Pixel* out) {
+  const TextureTexels t = texture;
+  const LutTexels<F> fetch(t, bytes, lut);
+  const auto modulated = [&](int32_t x, int32_t y) { return modulate_texel(fetch(x, y), after); };
+  const int bits = pc.bits;
+  const int64_t au = int64_t(pc.uv[0]) * (int64_t(1) << bits) + pc.step[0] * j;
+  const int64_t av = int64_t(pc.uv[1]) * (int64_t(1) << bits) + pc.step[1] * j;
+  bilinear_run<Repeat>(t, p.size_bits, bits, au, av, pc.step[0], pc.step[1], modulated, n, out);
+}
+
 // nearest_run as a PieceRun (the table's colours are the output: after is white).
 template <TexelFormat F, TextureWrap S, TextureWrap T>
 void nearest_piece(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes,
@@ -437,6 +460,8 @@ PieceRun nearest_piece_s(uint8_t wrap_t) {
 template <TexelFormat F>
 PieceRun piece_run_for(const TextureTexels& t, Pixel after) {
   const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
+  if (t.filter == uint8_t(TextureFilter::Bilinear) && after != 0xFFFFFF)
+    return repeat ? &bilinear_white_run<F, true> : &bilinear_white_run<F, false>;
   if (t.filter == uint8_t(TextureFilter::Bilinear))
     return repeat ? &piece_run<F, true, true> : &piece_run<F, true, false>;
   if (repeat) return &piece_run<F, false, true>;
@@ -505,10 +530,10 @@ template <TexelFormat F>
 Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel after, const int32_t uv[2],
                  bool small) {
   const LutTexels<F> fetch(t, bytes, lut);
-  if (t.filter == uint8_t(TextureFilter::Bilinear)) {
-    if (small) return bilinear_tinted<false>(t, uv[0], uv[1], fetch, tint_of(after));
-    // (modulate_texel leaves a texel as it is for white)
-    return bilinear<false>(t, uv[0], uv[1], [&](int32_t x, int32_t y) { return modulate_texel(fetch(x, y), after); });
+  if (t.filter == uint8_t(TextureFilter::Bilinear)) {  // as textured_colour
+    const Pixel first = small ? 0xFFFFFF : after, then = small ? after : 0xFFFFFF;
+    return modulate_texel(
+        bilinear<false>(t, uv[0], uv[1], [&](int32_t x, int32_t y) { return modulate_texel(fetch(x, y), first); }), then);
   }
   const int64_t su = int64_t(uv[0]) * t.width, sv = int64_t(uv[1]) * t.height;
   return modulate_texel(fetch(wrap(su >> 16, t.width, t.wrap_s), wrap(sv >> 16, t.height, t.wrap_t)), after);
@@ -610,20 +635,23 @@ void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes
   }
 #endif
   const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;  // the product left per sample
-  const bool bilinear = t.filter == uint8_t(TextureFilter::Bilinear);
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+  // Bilinear runs multiply the white table's texels by `after` before the filter (small triangles,
+  // which filter first, took exact_rows above).
+  const bool per_sample = !lut;
+#else
   // Bilinear runs blend the table's texels as they are: those of the colour, or white ones drawn in
-  // white (a small triangle's filter then product is the same).
-  if (!lut || (bilinear && (lut_colour != colour || (p.exact && colour != 0xFFFFFF)))) {
+  // white (a small triangle's filter then product is the same). The other samples are decoded (the
+  // same colours, without the table's code).
+  const bool bilinear = t.filter == uint8_t(TextureFilter::Bilinear);
+  const bool per_sample = !lut || (bilinear && (lut_colour != colour || (p.exact && colour != 0xFFFFFF)));
+#endif
+  if (per_sample) {
     for (int32_t r = 0; r < rows; ++r)
       for (int32_t i = 0; i < n; ++i) {
         int32_t uv[2];
         texture_uv(p, x + i, y + r, uv);
-#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
-        *out++ = lut ? sample_texture(t, bytes, lut, lut_colour, uv, colour, p.exact)
-                     : textured_colour(t, bytes, uv, colour, p.exact);
-#else
-        *out++ = textured_colour(t, bytes, uv, colour, p.exact);  // the same colours, without the table's code
-#endif
+        *out++ = textured_colour(t, bytes, uv, colour, p.exact);
       }
     return;
   }

@@ -13,6 +13,7 @@
 #include "texture/sampler.h"
 #include "tiler/filter.h"
 #include "tiler/tile.h"
+#include "view/vertex_cache.h"
 
 namespace ml {
 
@@ -813,6 +814,14 @@ class NodeRects {
   Rect* rects_ = nullptr;
 };
 
+// The vertex cache (view/vertex_cache.h) is a 64-bit host's, like the plan's extras: on the boards
+// its code would pass the m0plus image's flash budget.
+constexpr bool kVertexCache = BandPlan::kExtras;
+
+uint32_t vertex_cache_entries(const Scene& scene) {
+  return kVertexCache ? VertexCache::entries_for(scene.vertex_count) : 0;
+}
+
 // One frame: the BSP walked front to back once per band, each band's pyramid rebuilt in the same
 // arena space.
 class TilerFrame {
@@ -832,9 +841,10 @@ class TilerFrame {
   bool subtree_hidden(uint32_t index, uint32_t subtree_pieces);
   // Projects, culls and tiles one piece into the band's pyramid; false when the sink refused a write.
   // entry: the piece's plan entry (unknown without the plan), in this band or unknown.
-  bool draw_piece(uint32_t index, uint16_t entry);
-  // The plan entry of a piece facing the eye, from its world and view-space vertices.
-  uint16_t plan_bands(const Vec3i world[3], const ViewTriangle& view) const;
+  // Inline in the walk, its one caller (out of line, its calls cost 2.8 M of 2CylinderEngine's 102 M at 320x240).
+  [[gnu::always_inline]] bool draw_piece(uint32_t index, uint16_t entry);
+  // The plan entry of a piece facing the eye, from its view-space vertices.
+  uint16_t plan_bands(const ViewTriangle& view) const;
   // The box of the samples a projected part can cover (no edges yet).
   void part_box(const ScreenTriangle& part, ConvexPoly* poly) const;
   // Plans each texture's rows from the textured triangles' projected extent, and its first and last
@@ -866,6 +876,8 @@ class TilerFrame {
   BandRows band_;
   BandPlan plan_;
   NodeRects node_rects_;
+  VertexCache vertices_;
+  bool cached_ = false;  // vertices_ holds entries
   BandWriter* writer_ = nullptr;
   SampleFilter* cosine_;
   uint8_t* jitter_table_ = nullptr;  // every pattern's offsets (core/jitter.h), when jittered
@@ -933,6 +945,9 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
       plan_.keep_facings(arena, scene_.triangle_count);
     const size_t rects = NodeRects::bytes(scene_.bsp_node_count, out_.band_count());
     if (rects > 0 && arena.size() - arena.used() >= pyramid + rects) node_rects_.init(arena, scene_.bsp_node_count);
+    // The vertex cache in what the bands' pyramid leaves beside the plan.
+    if (kVertexCache) vertices_.init(arena, scene_, view_, vertex_cache_entries(scene_), pyramid);
+    cached_ = kVertexCache && vertices_.entries() > 0;
   }
   for (int band = 0; band < out_.band_count(); ++band) {
     s = render_band(band, arena);
@@ -1125,7 +1140,7 @@ bool TilerFrame::subtree_hidden(uint32_t index, uint32_t subtree_pieces) {
   return !tiler_.box_visible(box);  // false for an empty (off-screen) box too
 }
 
-uint16_t TilerFrame::plan_bands(const Vec3i world[3], const ViewTriangle& view) const {
+uint16_t TilerFrame::plan_bands(const ViewTriangle& view) const {
   int64_t first, last;
   if (view.unclipped) {
     // Unclipped, the piece's one part has these vertex positions: the bands its sample box reaches are
@@ -1143,7 +1158,7 @@ uint16_t TilerFrame::plan_bands(const Vec3i world[3], const ViewTriangle& view) 
     if (box.min_x > box.max_x || box.min_y > box.max_y) return plan_.no_band();
     first = box.min_y / band_.factor;
     last = box.max_y / band_.factor;
-  } else if (!triangle_row_span(view_, world, &first, &last)) {
+  } else if (!view_row_span(view_, view.p, &first, &last)) {
     return plan_.every_band();
   }
   const int rows = out_.band_rows(), height = camera_.height;
@@ -1157,21 +1172,23 @@ void TilerFrame::part_box(const ScreenTriangle& part, ConvexPoly* poly) const {
   triangle_sample_box(part, band_.factor, camera_.width, camera_.height, jittered(options_), poly);
 }
 
-bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
+inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
   writer_->clear_piece();
   const bool planned = plan_.active();
   const bool known = entry != plan_.unknown();
+  const bool cached = kVertexCache && cached_;
   const BspPiece piece = bsp_piece(scene_, index);
   const Triangle tri = triangle_at(scene_, piece.triangle);
   const Material& mat = scene_.materials[scene_.batches[tri.batch].material];
   // Facing is decided on the whole triangle, exactly as the scanline renderer decides it, and
   // before projecting, so back faces cost almost nothing; with the plan once a triangle. The
   // triangle's vertices are read only when needed: for the test, for a whole piece, and for a split
-  // piece whose box passes the visibility test.
+  // piece whose box passes the visibility test (with the vertex cache, from it).
   Vec3i whole_world[3];
   bool have_whole = false;
   auto whole = [&]() -> const Vec3i* {
-    if (!have_whole) triangle_world(scene_, piece.triangle, whole_world);
+    if (!have_whole && cached) vertices_.world(tri.batch, tri.v, whole_world);
+    else if (!have_whole) triangle_world(scene_, piece.triangle, whole_world);
     have_whole = true;
     return whole_world;
   };
@@ -1188,27 +1205,34 @@ bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
     if (planned) plan_.set(index, plan_.no_band());
     return true;
   }
+  // The piece is transformed once: for its plan entry (first visit), its row test and its projection;
+  // with the cache its vertices about once a frame. Without it the row test reads world vertices.
   Vec3i split_world[3];
-  if (split) vertices_world(scene_, tri.batch, piece.v, split_world);
-  const Vec3i* world = split ? split_world : whole();
-  // The piece is transformed once: for its plan entry (first visit) and its projection.
+  const Vec3i* world = split_world;
+  if (!cached && split) vertices_world(scene_, tri.batch, piece.v, split_world);
+  else if (!cached) world = whole();
   ViewTriangle view;
   bool viewed = false;
-  if (planned && !known) {
-    view_triangle(view_, world, &view);
+  auto transform = [&]() -> const ViewTriangle& {
+    if (!viewed && cached) vertices_.view(tri.batch, split ? piece.v : tri.v, &view);
+    else if (!viewed) view_triangle(view_, world, &view);
     viewed = true;
-    const uint16_t bands = plan_bands(world, view);
+    return view;
+  };
+  if (planned && !known) {
+    const uint16_t bands = plan_bands(transform());
     plan_.set(index, bands);
     if (!plan_.has(bands)) return true;
   }
   // Outside this band: skipped before projecting (most pieces, with many bands); an exact plan has
   // answered that already.
-  if (band_.rows < camera_.height && !(planned && plan_.exact()) &&
-      triangle_outside_rows(view_, world, band_.top, band_.top + band_.rows - 1))
-    return true;
-  if (!viewed) view_triangle(view_, world, &view);
+  if (band_.rows < camera_.height && !(planned && plan_.exact())) {
+    const int32_t row0 = band_.top, row1 = band_.top + band_.rows - 1;
+    if (cached ? view_outside_rows(view_, transform().p, row0, row1) : triangle_outside_rows(view_, world, row0, row1))
+      return true;
+  }
   ScreenTriangle parts[kMaxClipTriangles];
-  const int n = project_triangle(view_, view, facing, parts, false);  // the tiler reads no depths
+  const int n = project_triangle(view_, transform(), facing, parts, false);  // the tiler reads no depths
   writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0, split ? nullptr : &view);
   ViewTriangle whole_view;  // a split piece's whole triangle, when projected below (its texture planes take it too)
   for (int i = 0; i < n; ++i) {
@@ -1224,8 +1248,9 @@ bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
     if (whole_clip && !tiler_.box_visible(box)) continue;
     poly_edges(parts[i], &poly);
     if (whole_clip) {
+      // The whole triangle, projected (its texture planes take its view too).
       ScreenTriangle whole_parts[kMaxClipTriangles];
-      view_triangle(view_, whole(), &whole_view);
+      if (cached) vertices_.view(tri.batch, tri.v, &whole_view); else view_triangle(view_, whole(), &whole_view);
       writer_->use_whole_view(&whole_view);
       if (project_triangle(view_, whole_view, facing, whole_parts, false) == 1) {
         ConvexPoly whole_poly;
@@ -1248,6 +1273,10 @@ bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
 size_t tiler_plan_bytes(const Scene& scene, int bands) {
   return BandPlan::entry_bytes(scene.bsp_piece_count, bands) + BandPlan::facing_bytes(scene.triangle_count) +
          NodeRects::bytes(scene.bsp_node_count, bands);
+}
+
+size_t tiler_cache_bytes(const Scene& scene) {
+  return kVertexCache ? VertexCache::arena_bytes(vertex_cache_entries(scene)) : 0;
 }
 
 size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {

@@ -26,6 +26,10 @@ size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderO
 // when the arena has them free (the pieces' entries first, the rectangles when they fit as well); the
 // image is the same either way.
 size_t tiler_plan_bytes(const Scene& scene, int bands);
+// Arena bytes beyond those with which each vertex is decoded and transformed about once a frame (the
+// vertex cache, view/vertex_cache.h: 40 bytes a vertex up to 1,024; none on 32-bit targets). Taken,
+// as many as fit, from what the arena has free after the plan; the image is the same either way.
+size_t tiler_cache_bytes(const Scene& scene);
 // cosine: the cosine-hump filter to use when options.filter asks for it (a CosineFilter); null leaves
 // it out of the image (such a render is Unsupported).
 Status tiler_render(const Scene& scene, const Camera& camera, const RenderOptions& options,

@@ -241,27 +241,41 @@ int project_triangle(const View& view, const Vec3i world[3], ScreenTriangle out[
   return project_triangle(view, world, triangle_facing(view, world), out);
 }
 
-// View-space points of a world triangle; unclipped when all three lie in front of the near plane and
-// project inside the guard band (ox, oy then hold their screen offsets): nothing to clip, the common
-// case. (A vertex this keeps but the clip planes would cut lies on the guard band, thousands of pixels
-// off screen, so the two tests cannot disagree on any visible sample.)
-void view_triangle(const View& view, const Vec3i world[3], ViewTriangle* out) {
-  Vec3i* p = out->p;
-  out->unclipped = false;
-  bool in_front = true;
-  for (int i = 0; i < 3; ++i) {
-    p[i] = Vec3i{view_coordinate(view, view.right, world[i]), view_coordinate(view, view.down, world[i]),
-                 view_coordinate(view, view.forward, world[i])};
-    in_front = in_front && p[i].z >= view.near;
-  }
-  if (!in_front) return;
+namespace {
+
+// A vertex in front of the near plane that projects inside the guard band: nothing to clip there.
+// (A vertex this keeps but the clip planes would cut lies on the guard band, thousands of pixels off
+// screen, so the two tests cannot disagree on any visible sample.) Offsets kViewVertexClipped
+// otherwise. Inline in view_triangle's loop, writing straight into its ViewTriangle.
+[[gnu::always_inline]] inline bool transform_vertex(const View& view, const Vec3i& world, Vec3i* p, int64_t* ox,
+                                                    int64_t* oy) {
+  *p = Vec3i{view_coordinate(view, view.right, world), view_coordinate(view, view.down, world),
+             view_coordinate(view, view.forward, world)};
+  *ox = *oy = kViewVertexClipped;
+  if (p->z < view.near) return false;
   const int64_t guard = int64_t(kGuardBandPixels) << kSubpixelBits;
-  for (int i = 0; i < 3; ++i) {
-    out->ox[i] = project_offset(view, p[i].x, p[i].z);
-    out->oy[i] = project_offset(view, p[i].y, p[i].z);
-    if (!within(out->ox[i], guard) || !within(out->oy[i], guard)) return;
-  }
-  out->unclipped = true;
+  const int64_t x = project_offset(view, p->x, p->z), y = project_offset(view, p->y, p->z);
+  if (!within(x, guard) || !within(y, guard)) return false;
+  *ox = x;
+  *oy = y;
+  return true;
+}
+
+}  // namespace
+
+void view_vertex(const View& view, const Vec3i& world, ViewVertex* out) {
+  int64_t ox, oy;
+  transform_vertex(view, world, &out->p, &ox, &oy);
+  out->ox = int32_t(ox);  // within the guard band, or kViewVertexClipped
+  out->oy = int32_t(oy);
+}
+
+// Unclipped when all three vertices are: the common case.
+void view_triangle(const View& view, const Vec3i world[3], ViewTriangle* out) {
+  bool unclipped = true;
+  for (int i = 0; i < 3; ++i)
+    if (!transform_vertex(view, world[i], &out->p[i], &out->ox[i], &out->oy[i])) unclipped = false;
+  out->unclipped = unclipped;
 }
 
 bool project_unclipped_positions(const View& view, const Vec3i world[3], int32_t x[3], int32_t y[3]) {
@@ -326,7 +340,10 @@ int project_triangle(const View& view, const ViewTriangle& tri, int facing, Scre
   return n;
 }
 
-bool triangle_outside_rows(const View& view, const Vec3i world[3], int32_t row0, int32_t row1) {
+namespace {
+
+// view_outside_rows, inline in both its entries (the boards link only triangle_outside_rows).
+inline bool outside_rows(const View& view, const Vec3i p[3], int32_t row0, int32_t row1) {
   // Vertex i projects to y_i = center_y + focal y / z (before rounding by at most half a subpixel).
   // Above the band: every y_i < row0 * 256, so no sample centre (row0 * 256 + 128 and below) is
   // reached; below: every y_i > (row1 + 1) * 256. Compared as focal y + (center_y - limit) z, z > 0:
@@ -335,25 +352,48 @@ bool triangle_outside_rows(const View& view, const Vec3i world[3], int32_t row0,
   const int64_t bottom = int64_t(view.center_y) - (int64_t(row1) + 1) * kSubpixelOne;
   bool above = true, below = true;
   for (int i = 0; i < 3; ++i) {
-    const int64_t z = view_coordinate(view, view.forward, world[i]);
+    const int64_t z = p[i].z;
     if (z < view.near) return false;  // clipped: the projection is not the vertices' hull
-    const int64_t fy = view.focal_q8 * view_coordinate(view, view.down, world[i]);
+    const int64_t fy = view.focal_q8 * p[i].y;
     above = above && fy + top * z < 0;
     below = below && fy + bottom * z > 0;
   }
   return above || below;
 }
 
-bool triangle_row_span(const View& view, const Vec3i world[3], int64_t* first, int64_t* last) {
+// The view-space depth and height of a world triangle's vertices (x left 0), as far as the row tests
+// read them: false when a vertex lies behind the near plane (then neither test rules anything out).
+inline bool view_rows_of(const View& view, const Vec3i world[3], Vec3i p[3]) {
+  for (int i = 0; i < 3; ++i) {
+    p[i].x = 0;
+    p[i].z = view_coordinate(view, view.forward, world[i]);
+    if (p[i].z < view.near) return false;
+    p[i].y = view_coordinate(view, view.down, world[i]);
+  }
+  return true;
+}
+
+}  // namespace
+
+bool view_outside_rows(const View& view, const Vec3i p[3], int32_t row0, int32_t row1) {
+  return outside_rows(view, p, row0, row1);
+}
+
+bool triangle_outside_rows(const View& view, const Vec3i world[3], int32_t row0, int32_t row1) {
+  Vec3i p[3];
+  return view_rows_of(view, world, p) && outside_rows(view, p, row0, row1);
+}
+
+bool view_row_span(const View& view, const Vec3i p[3], int64_t* first, int64_t* last) {
   // Vertex i lies at Y_i = center_y + focal y_i / z_i subpixels (exactly, before rounding). The band
   // test calls the triangle above row0 when every Y_i < row0 * 256, i.e. floor(max Y) < row0 * 256, and
   // below row1 when every Y_i > (row1 + 1) * 256, i.e. ceil(min Y) - 1 >= (row1 + 1) * 256. z_i is
   // below 2^31: one 64-by-32-bit division a vertex (core/fixed.h).
   int64_t floor_max = INT64_MIN, ceil_min = INT64_MAX;
   for (int i = 0; i < 3; ++i) {
-    const int64_t z = view_coordinate(view, view.forward, world[i]);
+    const int64_t z = p[i].z;
     if (z < view.near) return false;
-    const int64_t fy = view.focal_q8 * view_coordinate(view, view.down, world[i]);
+    const int64_t fy = view.focal_q8 * p[i].y;
     const int64_t q = div_floor(fy, z);
     floor_max = max_of(floor_max, view.center_y + q);
     ceil_min = min_of(ceil_min, view.center_y + q + (q * z != fy ? 1 : 0));
@@ -361,6 +401,11 @@ bool triangle_row_span(const View& view, const Vec3i world[3], int64_t* first, i
   *last = floor_shift(floor_max, kSubpixelBits);
   *first = floor_shift(ceil_min - 1, kSubpixelBits);
   return true;
+}
+
+bool triangle_row_span(const View& view, const Vec3i world[3], int64_t* first, int64_t* last) {
+  Vec3i p[3];
+  return view_rows_of(view, world, p) && view_row_span(view, p, first, last);
 }
 
 void setup_triangle(const ScreenTriangle& tri, int width, int height, TriangleSetup* out) {

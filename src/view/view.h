@@ -90,6 +90,17 @@ int project_triangle(const View& view, const Vec3i world[3], ScreenTriangle out[
 int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenTriangle out[kMaxClipTriangles],
                      bool depths = true);
 
+// One world point in view space and, when it lies in front of the near plane and projects inside the
+// guard band, its screen offset from the centre (subpixels) exactly as project_triangle rounds it:
+// what view_triangle works out for each vertex, on its own, so that a vertex several triangles share
+// can be transformed once (view/vertex_cache.h).
+struct ViewVertex {
+  Vec3i p;                  // view space, 1/16 world unit
+  int32_t ox, oy;           // |ox|, |oy| <= the guard band (2^21 subpixels); ox == kViewVertexClipped otherwise
+};
+constexpr int32_t kViewVertexClipped = INT32_MIN;
+void view_vertex(const View& view, const Vec3i& world, ViewVertex* out);
+
 // A world triangle in view space, each vertex transformed once, and, when project_triangle would not
 // clip it (every vertex in front of the near plane and inside the guard band), its vertices' screen
 // offsets from the centre (subpixels) exactly as project_triangle rounds them. A caller that first
@@ -101,6 +112,16 @@ struct ViewTriangle {
   bool unclipped;
 };
 void view_triangle(const View& view, const Vec3i world[3], ViewTriangle* out);
+
+// Vertex i of a ViewTriangle from its view_vertex; true when it lies unclipped (the triangle's
+// `unclipped` is the three answers together). A caller holding the vertices' view_vertex builds
+// view_triangle's ViewTriangle this way.
+inline bool put_view_vertex(const ViewVertex& v, int i, ViewTriangle* out) {
+  out->p[i] = v.p;
+  out->ox[i] = v.ox;
+  out->oy[i] = v.oy;
+  return v.ox != kViewVertexClipped;
+}
 
 // project_triangle of the world triangle that view_triangle transformed.
 int project_triangle(const View& view, const ViewTriangle& tri, int facing, ScreenTriangle out[kMaxClipTriangles],
@@ -127,12 +148,16 @@ inline int32_t view_coordinate(const View& view, const Vec3i& axis, const Vec3i&
 // margin for rounding). Costs six dot products and no division: the band renderer rejects pieces
 // outside its band with it before projecting them. False when unsure.
 bool triangle_outside_rows(const View& view, const Vec3i world[3], int32_t row0, int32_t row1);
+// The same from the triangle's view-space points (ViewTriangle::p): no dot product at all.
+bool view_outside_rows(const View& view, const Vec3i p[3], int32_t row0, int32_t row1);
 
 // The rows triangle_outside_rows keeps, worked out once: false when a vertex lies behind the near
 // plane (then no row can be ruled out); otherwise triangle_outside_rows(view, world, row0, row1) is
 // exactly row1 < *first || row0 > *last (first > last when no row is kept). One division per vertex
 // instead of six dot products per band: a renderer that visits a triangle in many bands asks once.
 bool triangle_row_span(const View& view, const Vec3i world[3], int64_t* first, int64_t* last);
+// The same from the triangle's view-space points (ViewTriangle::p).
+bool view_row_span(const View& view, const Vec3i p[3], int64_t* first, int64_t* last);
 
 // The fill rule for an edge with E(x, y) = a x + b y + c: samples exactly on it are covered only if it
 // is a left edge (a > 0) or a top edge (a == 0, b > 0).

@@ -457,13 +457,14 @@ TEST(TilerRender, BandPlanGivesTheSameFrameAsTheLeastArena) {
       const size_t need = ml::render_arena_bytes(ts.scene, cam, opt);
       const size_t spare = ml::render_spare_bytes(ts.scene, cam, opt);
       // A byte a piece up to 16 bands, two beyond (and one of alignment), none in one band; + 2 bits a triangle;
-      // + 8 bytes a BSP node for the subtrees' screen rectangles (and 3 of alignment), none in one band.
+      // + 8 bytes a BSP node for the subtrees' screen rectangles (and 3 of alignment), none in one band;
+      // + the vertex cache.
       const int bands = (cam.height + rows - 1) / rows;
       const size_t entries = bands == 1  ? 0
                              : bands > 16 ? 2 * size_t(ts.scene.bsp_piece_count) + 1
                                           : size_t(ts.scene.bsp_piece_count);
       const size_t rects = bands == 1 ? 0 : 8 * size_t(ts.scene.bsp_node_count) + 3;
-      EXPECT_EQ(spare, entries + (ts.scene.triangle_count + 3) / 4 + rects);
+      EXPECT_EQ(spare, entries + (ts.scene.triangle_count + 3) / 4 + rects + ml::tiler_cache_bytes(ts.scene));
       const Frame least = render(ts.scene, cam, mode, nullptr, need, out);
       const Frame planned = render(ts.scene, cam, mode, nullptr, need + spare, out);
       ASSERT_TRUE(least.status.ok() && planned.status.ok());

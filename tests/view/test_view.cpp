@@ -362,7 +362,8 @@ TEST(ViewFacing, AgreesWithScreenOrientationOfLargeTriangles) {
 }
 
 // triangle_row_span is triangle_outside_rows worked out once: for every row range the two agree, on
-// triangles at every scale (behind the near plane too) and row ranges on and far off the screen.
+// triangles at every scale (behind the near plane too) and row ranges on and far off the screen; and
+// both give the same from the triangle's view-space points (view_row_span, view_outside_rows).
 TEST(ViewRows, RowSpanAgreesWithTheBandTest) {
   std::mt19937_64 rng(29);
   int spans = 0, outside = 0, inside = 0;
@@ -375,10 +376,20 @@ TEST(ViewRows, RowSpanAgreesWithTheBandTest) {
     int64_t first = 0, last = 0;
     const bool known = ml::triangle_row_span(view, w, &first, &last);
     spans += known;
+    // The same answers from the triangle's view-space points (what the tiler's vertex cache holds).
+    ml::ViewTriangle t;
+    ml::view_triangle(view, w, &t);
+    int64_t view_first = 0, view_last = 0;
+    ASSERT_EQ(ml::view_row_span(view, t.p, &view_first, &view_last), known) << iter;
+    if (known) {
+      EXPECT_EQ(view_first, first) << iter;
+      EXPECT_EQ(view_last, last) << iter;
+    }
     for (int k = 0; k < 12; ++k) {
       const int32_t row0 = int32_t(rng() % 90) - 20, row1 = row0 + int32_t(rng() % 20);
       const bool out = ml::triangle_outside_rows(view, w, row0, row1);
       EXPECT_EQ(out, known && (row1 < first || row0 > last)) << iter << " rows " << row0 << ".." << row1;
+      EXPECT_EQ(ml::view_outside_rows(view, t.p, row0, row1), out) << iter;
       (out ? outside : inside)++;
     }
     // The span's edges are tight: its first and last rows are kept.

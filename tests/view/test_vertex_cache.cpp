@@ -1,0 +1,303 @@
+// The vertex cache (view/vertex_cache.h): its lookups are vertices_world and view_triangle exactly,
+// whatever its size and the order of lookups; it keeps a vertex until another takes its entry; it takes
+// what the arena has free; and the tiler's frames are the same byte for byte with a cache of any size
+// or none.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/arena.h"
+#include "render/render.h"
+#include "tests/texture/texture_test_util.h"
+#include "tests/tiler/tiler_test_util.h"
+#include "tiler/tiler.h"
+#include "tools/scenec/scenec.h"
+#include "view/vertex_cache.h"
+
+namespace {
+
+using ml::VertexCache;
+
+ml::View make(const ml::Camera& cam) {
+  ml::View v;
+  EXPECT_TRUE(ml::make_view(cam, &v).ok());
+  return v;
+}
+
+// A camera anywhere in or around the test scene (its triangles lie in planes from z = -200 to 220),
+// looking anywhere near it, with a near plane that may cut triangles, and vertices far off to the side
+// (outside the guard band): every case of view_triangle.
+ml::Camera random_camera(std::mt19937& rng) {
+  std::uniform_int_distribution<int> far(-1500, 1500), depth(-300, 1500), mid(-400, 400);
+  ml::Camera c = tiler_test::test_camera(int(rng() % 300) + 16, int(rng() % 200) + 16);
+  c.eye = ml::Vec3i{far(rng), far(rng), depth(rng)};
+  c.target = ml::Vec3i{mid(rng), mid(rng), mid(rng)};
+  if (c.target.x == c.eye.x && c.target.y == c.eye.y) c.target.z = c.eye.z + 1;
+  c.near = int32_t(rng() % 4 == 0 ? 1 + rng() % 600 : 1);
+  c.fov_deg_q16 = int32_t((20 + rng() % 140) << 16);
+  return c;
+}
+
+// The test scene with its two batches made different (scale and offset), so that one vertex index read
+// with each batch is two points.
+struct TwoBatchScene {
+  tiler_test::TestScene ts;
+  std::vector<ml::Batch> batches;
+  ml::Scene scene;
+  explicit TwoBatchScene(uint32_t seed, int triangles) {
+    std::mt19937 rng(seed);
+    ts.build(tiler_test::random_scene(rng, triangles, 160));
+    scene = ts.scene;
+    batches.assign(scene.batches, scene.batches + scene.batch_count);
+    batches[1].scale[0] = 70000;
+    batches[1].offset[2] = -37;
+    scene.batches = batches.data();
+  }
+};
+
+void expect_same_view(const ml::ViewTriangle& got, const ml::ViewTriangle& want, const std::string& where) {
+  ASSERT_EQ(got.unclipped, want.unclipped) << where;
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(got.p[i].x, want.p[i].x) << where;
+    EXPECT_EQ(got.p[i].y, want.p[i].y) << where;
+    EXPECT_EQ(got.p[i].z, want.p[i].z) << where;
+    if (!want.unclipped) continue;  // offsets are read only when unclipped
+    EXPECT_EQ(got.ox[i], want.ox[i]) << where;
+    EXPECT_EQ(got.oy[i], want.oy[i]) << where;
+  }
+}
+
+// Random lookups of random triangles (each read with its own batch or the other), world positions or
+// view-space ones, from caches of the least size, a middling one and one holding every vertex, under
+// random cameras: every answer is vertices_world's and view_triangle's.
+TEST(VertexCache, LookupsAreTheDecodedAndTransformedVertices) {
+  TwoBatchScene s(5, 300);
+  ASSERT_EQ(s.scene.batch_count, 2u);
+  std::mt19937 rng(17);
+  int unclipped = 0, clipped = 0;
+  for (int camera = 0; camera < 40; ++camera) {
+    const ml::Camera cam = random_camera(rng);
+    const ml::View view = make(cam);
+    for (uint32_t entries : {VertexCache::kMinEntries, 128u, VertexCache::kMaxEntries}) {
+      std::vector<uint8_t> mem(VertexCache::arena_bytes(entries));
+      ml::Arena arena(mem.data(), mem.size());
+      VertexCache cache;
+      cache.init(arena, s.scene, view, entries, 0);
+      ASSERT_EQ(cache.entries(), entries);
+      for (int k = 0; k < 600; ++k) {
+        const ml::Triangle tri = ml::triangle_at(s.scene, uint32_t(rng() % s.scene.triangle_count));
+        const uint32_t batch = rng() % 3 == 0 ? 1 - tri.batch : tri.batch;
+        ml::Vec3i want_world[3];
+        ml::vertices_world(s.scene, batch, tri.v, want_world);
+        const std::string where = "camera " + std::to_string(camera) + " entries " + std::to_string(entries) +
+                                  " lookup " + std::to_string(k);
+        if (rng() % 2 == 0) {
+          ml::Vec3i got[3];
+          cache.world(batch, tri.v, got);
+          for (int i = 0; i < 3; ++i) {
+            EXPECT_EQ(got[i].x, want_world[i].x) << where;
+            EXPECT_EQ(got[i].y, want_world[i].y) << where;
+            EXPECT_EQ(got[i].z, want_world[i].z) << where;
+          }
+        } else {
+          ml::ViewTriangle got, want;
+          cache.view(batch, tri.v, &got);
+          ml::view_triangle(view, want_world, &want);
+          expect_same_view(got, want, where);
+          (want.unclipped ? unclipped : clipped)++;
+        }
+      }
+    }
+  }
+  // Both kinds of triangle were asked for many times.
+  EXPECT_GT(unclipped, 3000);
+  EXPECT_GT(clipped, 1500);
+}
+
+// A vertex is decoded and transformed once while its entry holds it; a vertex whose index takes the
+// same entry, or the same index read with another batch, replaces it; world lookups do not transform.
+TEST(VertexCache, KeepsAVertexUntilAnotherTakesItsEntry) {
+  TwoBatchScene s(9, 300);
+  ASSERT_GT(s.scene.vertex_count, 2 * VertexCache::kMinEntries + 3);
+  const ml::View view = make(tiler_test::test_camera(160, 120));
+  const uint32_t n = VertexCache::kMinEntries;
+  std::vector<uint8_t> mem(VertexCache::arena_bytes(n));
+  ml::Arena arena(mem.data(), mem.size());
+  VertexCache cache;
+  cache.init(arena, s.scene, view, n, 0);
+  ASSERT_EQ(cache.entries(), n);
+  const uint32_t a[3] = {0, 1, 2}, same_entries[3] = {n, n + 1, n + 2}, other_entries[3] = {3, 4, 5};
+  ml::Vec3i world[3];
+  ml::ViewTriangle tri;
+  cache.world(0, a, world);
+  EXPECT_EQ(cache.decoded(), 3u);
+  EXPECT_EQ(cache.transformed(), 0u);
+  cache.view(0, a, &tri);  // the same vertices: transformed now, not decoded again
+  cache.view(0, a, &tri);
+  cache.world(0, a, world);
+  EXPECT_EQ(cache.decoded(), 3u);
+  EXPECT_EQ(cache.transformed(), 3u);
+  cache.view(0, other_entries, &tri);  // other entries: a stays
+  cache.view(0, a, &tri);
+  EXPECT_EQ(cache.decoded(), 6u);
+  EXPECT_EQ(cache.transformed(), 6u);
+  cache.view(0, same_entries, &tri);  // a's entries: a is read again after them
+  cache.view(0, a, &tri);
+  EXPECT_EQ(cache.decoded(), 12u);
+  EXPECT_EQ(cache.transformed(), 12u);
+  cache.world(1, a, world);  // the same indices with the other batch are other points
+  EXPECT_EQ(cache.decoded(), 15u);
+  ml::Vec3i want[3];
+  ml::vertices_world(s.scene, 1, a, want);
+  EXPECT_EQ(world[0].x, want[0].x);
+  EXPECT_NE(world[0].z, ml::vertex_world(s.scene, 0, 0).z);
+  // A triangle whose vertices share an entry (0 and n) is still given whole.
+  const uint32_t clash[3] = {0, n, 1};
+  ml::ViewTriangle got, expected;
+  cache.view(0, clash, &got);
+  ml::vertices_world(s.scene, 0, clash, want);
+  ml::view_triangle(view, want, &expected);
+  expect_same_view(got, expected, "clash");
+}
+
+// The cache takes the largest power of two of entries that leaves the bytes asked for free, and none
+// when fewer than kMinEntries fit.
+TEST(VertexCache, TakesWhatTheArenaHasFree) {
+  TwoBatchScene s(3, 20);
+  const ml::View view = make(tiler_test::test_camera(64, 48));
+  EXPECT_EQ(VertexCache::entries_for(1), VertexCache::kMinEntries);
+  EXPECT_EQ(VertexCache::entries_for(65), 128u);
+  EXPECT_EQ(VertexCache::entries_for(1u << 30), VertexCache::kMaxEntries);
+  const size_t keep = 1000;
+  for (uint32_t fits : {0u, 32u, 64u, 100u, 256u, 1024u}) {
+    const size_t bytes = keep + (fits ? VertexCache::arena_bytes(fits) : 0);
+    std::vector<uint8_t> mem(bytes);
+    ml::Arena arena(mem.data(), mem.size());
+    VertexCache cache;
+    cache.init(arena, s.scene, view, 512, keep);
+    const uint32_t want = fits < 64 ? 0 : fits >= 512 ? 512 : fits >= 256 ? 256 : 64;
+    EXPECT_EQ(cache.entries(), want) << fits;
+    EXPECT_GE(arena.size() - arena.used(), keep) << fits;
+  }
+}
+
+// ---- the tiler's frames ----------------------------------------------------------------------------
+
+void expect_same_stats(const ml::Stats& a, const ml::Stats& b, const std::string& where) {
+  EXPECT_EQ(a.triangles_culled, b.triangles_culled) << where;
+  EXPECT_EQ(a.triangles_drawn, b.triangles_drawn) << where;
+  EXPECT_EQ(a.triangles_tiled, b.triangles_tiled) << where;
+  EXPECT_EQ(a.pixel_writes, b.pixel_writes) << where;
+  EXPECT_EQ(a.shading_calls, b.shading_calls) << where;
+  EXPECT_EQ(a.cells_visited, b.cells_visited) << where;
+  EXPECT_EQ(a.bsp_subtrees_culled, b.bsp_subtrees_culled) << where;
+  EXPECT_EQ(a.bands, b.bands) << where;
+  EXPECT_EQ(a.texture_loads, b.texture_loads) << where;
+  EXPECT_EQ(a.texture_bytes_loaded, b.texture_bytes_loaded) << where;
+}
+
+// A compiled scene of crossing triangles (so the BSP splits them: split pieces address appended
+// vertices), half of them double-sided.
+const mlhost::LoadedScene& crossing_scene() {
+  static mlhost::LoadedScene loaded;
+  if (loaded.scene.info) return loaded;
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> coord(-2, 2);
+  ml::SceneMesh mesh;
+  mesh.nodes.resize(1);
+  for (uint32_t m = 0; m < 2; ++m) {
+    ml::MeshMaterial mat;
+    mat.base_color[0] = 0.2 + 0.6 * m;
+    mat.double_sided = m == 1;
+    mesh.materials.push_back(mat);
+    ml::MeshPrimitive prim;
+    prim.material = m;
+    mesh.nodes[0].primitives.push_back(prim);
+  }
+  for (int t = 0; t < 120; ++t) {
+    ml::MeshPrimitive& prim = mesh.nodes[0].primitives[size_t(t) % 2];
+    const uint32_t base = uint32_t(prim.vertices.size());
+    for (int k = 0; k < 3; ++k) {
+      ml::MeshVertex v;
+      for (double& c : v.position) c = coord(rng);
+      prim.vertices.push_back(v);
+    }
+    prim.triangles.push_back({base, base + 1, base + 2});
+  }
+  ml::CompileResult r = ml::compile_mesh(mesh);
+  EXPECT_TRUE(r.ok) << r.error;
+  loaded.name = "crossing";
+  loaded.blob = std::move(r.blob);
+  EXPECT_TRUE(ml::read_scene(loaded.blob.data(), loaded.blob.size, &loaded.scene).ok());
+  return loaded;
+}
+
+// The tiler with the plan and no cache, with a cache of the least size (most lookups miss) and with
+// the whole spare arena (render_spare_bytes: the plan and tiler_cache_bytes) gives the same frame byte
+// for byte and the same counts, and the least arena the same image: on the bundled scene, the
+// textured banded scene and a scene of split pieces, in 16-row bands and in one band, flat, Gouraud,
+// ids and antialiased, from several sides.
+TEST(VertexCacheFrames, EveryCacheSizeGivesTheSameFrame) {
+  struct Case {
+    const mlhost::LoadedScene* scene;
+    ml::ShadingMode mode;
+    int aa;
+  };
+  const mlhost::LoadedScene& bundled = textest::load("");
+  const mlhost::LoadedScene& banded = textest::load("builtin:banded");
+  const mlhost::LoadedScene& crossing = crossing_scene();
+  ASSERT_TRUE(bundled.scene.info && banded.scene.info && crossing.scene.info);
+  ASSERT_GT(crossing.scene.bsp_split_count, 0u);
+  const Case cases[] = {{&bundled, ml::ShadingMode::Flat, 1},     {&bundled, ml::ShadingMode::Gouraud, 2},
+                        {&banded, ml::ShadingMode::Unlit, 1},     {&crossing, ml::ShadingMode::Ids, 1},
+                        {&crossing, ml::ShadingMode::Flat, 1}};
+  int frames = 0, drawing = 0;
+  for (const Case& c : cases) {
+    const ml::Scene& scene = c.scene->scene;
+    for (double turn : {0.0, 130.0, 250.0}) {
+      for (int rows : {16, 0}) {
+        const ml::Camera cam = textest::camera_for(*c.scene, 120, 90, turn);
+        ml::RenderOptions o = textest::options(ml::RendererKind::Tiler, c.mode, c.aa);
+        o.output.band_rows = rows;
+        const int bands = rows ? (cam.height + rows - 1) / rows : 1;
+        const size_t need = ml::render_arena_bytes(scene, cam, o), plan = ml::tiler_plan_bytes(scene, bands);
+        const size_t spare = ml::render_spare_bytes(scene, cam, o);
+        EXPECT_EQ(spare, plan + ml::tiler_cache_bytes(scene));
+        EXPECT_GE(ml::tiler_cache_bytes(scene), VertexCache::arena_bytes(VertexCache::kMinEntries));
+        const std::string where = c.scene->name + " turn " + std::to_string(turn) + " rows " + std::to_string(rows) +
+                                  " mode " + std::to_string(int(c.mode));
+        const textest::Frame least = textest::render(scene, cam, o, need);
+        const textest::Frame uncached = textest::render(scene, cam, o, need + plan);
+        const textest::Frame small = textest::render(scene, cam, o, need + plan + VertexCache::arena_bytes(VertexCache::kMinEntries));
+        const textest::Frame full = textest::render(scene, cam, o, need + spare);
+        for (const textest::Frame* f : {&least, &uncached, &small, &full}) {
+          ASSERT_TRUE(f->status.ok()) << where << ": " << f->status.message;
+          ASSERT_TRUE(f->contract) << where << ": " << f->contract_error;
+        }
+        EXPECT_EQ(uncached.pixels, least.pixels) << where;
+        EXPECT_EQ(small.pixels, uncached.pixels) << where;
+        EXPECT_EQ(full.pixels, uncached.pixels) << where;
+        expect_same_stats(small.stats, uncached.stats, where);
+        expect_same_stats(full.stats, uncached.stats, where);
+        // The caches took their bytes (up to the alignment of what follows them): the least one's
+        // entries, and the whole of tiler_cache_bytes.
+        const size_t entry = sizeof(VertexCache::Entry);
+        EXPECT_GE(small.stats.peak_arena_bytes + 8, uncached.stats.peak_arena_bytes + entry * VertexCache::kMinEntries)
+            << where;
+        EXPECT_GE(full.stats.peak_arena_bytes + 8, uncached.stats.peak_arena_bytes + ml::tiler_cache_bytes(scene) - 3)
+            << where;
+        if (turn == 0) {
+          EXPECT_GT(full.stats.triangles_drawn, 0u) << where;
+        }
+        drawing += full.stats.triangles_drawn > 0;
+        ++frames;
+      }
+    }
+  }
+  EXPECT_EQ(frames, 30);
+  EXPECT_GE(drawing, 20);
+}
+
+}  // namespace
