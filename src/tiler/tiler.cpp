@@ -3,6 +3,7 @@
 // background is tiled through the root mask last. See docs/tiler.md.
 #include "tiler/tiler.h"
 
+#include <stdint.h>
 #include <string.h>
 
 #include "core/band.h"
@@ -46,6 +47,46 @@ struct PixelSum {
 
 // Turns newly covered sample blocks (band-local rows) into band-buffer writes of the current piece's
 // colours. Colours are computed on the first write, so hidden pieces cost no shading.
+// Textured triangles' texture planes kept from one band to the next when the arena has room
+// (tiler_plan_bytes; frames of several bands, scenes with texels): a piece the band edges cut is
+// drawn in every band it reaches, and its planes (the cross products and the small-triangle box,
+// about 650 instructions) are the same in each. Direct-mapped by triangle id: a triangle whose set
+// another took is made again, as without the cache (the same planes, the same images). On 64-bit
+// hosts only (as the band plan's extras): a board has neither the RAM to spare nor the flash.
+class PlaneCache {
+ public:
+  static constexpr bool kActive = sizeof(void*) >= 8;
+  static constexpr uint32_t kSets = 64;
+  static size_t bytes(const Scene& scene, int bands) {
+    return !kActive || bands < 2 || scene.texture_texels_count == 0 ? 0
+                                                                   : arena_worst_case(sizeof(Set) * kSets, alignof(Set));
+  }
+  void init(Arena& arena) {
+    if (!kActive) return;
+    sets_ = arena.allocate_array<Set>(kSets);
+    for (uint32_t i = 0; sets_ && i < kSets; ++i) sets_[i].triangle = kNone;
+  }
+  // Triangle `triangle`'s planes as made (nothing cached in them yet), or null.
+  const TexturePlanes* find(uint32_t triangle) const {
+    if (!kActive || !sets_) return nullptr;
+    const Set& set = sets_[triangle & (kSets - 1)];
+    return set.triangle == triangle ? &set.planes : nullptr;
+  }
+  void keep(uint32_t triangle, const TexturePlanes& planes) {
+    if (!kActive || !sets_) return;
+    Set& set = sets_[triangle & (kSets - 1)];
+    set.triangle = triangle;
+    set.planes = planes;
+  }
+
+ private:
+  struct Set {
+    uint32_t triangle;
+    TexturePlanes planes;
+  };
+  Set* sets_ = nullptr;
+};
+
 class BandWriter : public CoverageWriter {
  public:
   BandWriter(BandOutput& out, Stats* stats, Pixel* row) : out_(out), stats_(stats), row_(row) {}
@@ -84,10 +125,11 @@ class BandWriter : public CoverageWriter {
   // The whole triangle's view_triangle for a split piece's texture planes (valid while it is tiled).
   void use_whole_view(const ViewTriangle* whole_view) { whole_view_ = whole_view; }
   // Textured pieces (texture/): the pager, and the view their texture planes are built in.
-  void use_textures(TexturePager* pager, const View* view, TextureSegment* segment_rows) {
+  void use_textures(TexturePager* pager, const View* view, TextureSegment* segment_rows, PlaneCache* cache) {
     pager_ = pager->active() ? pager : nullptr;
     view_ = view;
     segment_rows_ = segment_rows;
+    plane_cache_ = cache;
   }
   // world: the piece's triangle's world vertices when read already (for its shading; valid while the
   // part is tiled), or null.
@@ -238,8 +280,13 @@ class BandWriter : public CoverageWriter {
   }
   TexturePlanes& texture_planes() { return texture_ready_ ? texture_planes_ : make_texture_planes(); }
   [[gnu::noinline]] TexturePlanes& make_texture_planes() {  // once a piece, off the per-block paths
-    triangle_texture_planes(*scene_, *view_, triangle_, texture_, 1, kSubpixelHalf, kSubpixelHalf, &texture_planes_,
-                            whole_view_);
+    if (const TexturePlanes* kept = plane_cache_->find(triangle_)) {  // made in an earlier band
+      texture_planes_ = *kept;
+    } else {
+      triangle_texture_planes(*scene_, *view_, triangle_, texture_, 1, kSubpixelHalf, kSubpixelHalf,
+                              &texture_planes_, whole_view_);
+      plane_cache_->keep(triangle_, texture_planes_);
+    }
     use_segment_rows(&texture_planes_, segment_rows_, kSegmentRowBits);
     texture_ready_ = true;
     return texture_planes_;
@@ -385,6 +432,7 @@ class BandWriter : public CoverageWriter {
   bool texture_ready_ = false;
   TexturePlanes texture_planes_{};
   TextureSegment* segment_rows_ = nullptr;
+  PlaneCache* plane_cache_ = nullptr;  // set whenever textured (inactive: finds nothing)
   const ViewTriangle* whole_view_ = nullptr;
   const Pixel* lut_ = nullptr;  // the piece's texel table (null: not looked up yet), its colour and generation
   Pixel lut_colour_ = 0;
@@ -814,6 +862,12 @@ class NodeRects {
   Rect* rects_ = nullptr;
 };
 
+#if UINTPTR_MAX > 0xFFFFFFFFu
+#define ML_HOST_INLINE [[gnu::always_inline]]
+#else
+#define ML_HOST_INLINE
+#endif
+
 // The vertex cache (view/vertex_cache.h) is a 64-bit host's, like the plan's extras: on the boards
 // its code would pass the m0plus image's flash budget.
 constexpr bool kVertexCache = BandPlan::kExtras;
@@ -841,8 +895,10 @@ class TilerFrame {
   bool subtree_hidden(uint32_t index, uint32_t subtree_pieces);
   // Projects, culls and tiles one piece into the band's pyramid; false when the sink refused a write.
   // entry: the piece's plan entry (unknown without the plan), in this band or unknown.
-  // Inline in the walk, its one caller (out of line, its calls cost 2.8 M of 2CylinderEngine's 102 M at 320x240).
-  [[gnu::always_inline]] bool draw_piece(uint32_t index, uint16_t entry);
+  // Inline in the walk, its one caller, on 64-bit hosts (out of line, its calls cost 2.8 M of
+  // 2CylinderEngine's 102 M at 320x240); on the boards the compiler's own choice is smaller and faster
+  // (forced inline: m0plus 19.69 M -> 19.78 M a frame, 124 bytes more code).
+  ML_HOST_INLINE bool draw_piece(uint32_t index, uint16_t entry);
   // The plan entry of a piece facing the eye, from its view-space vertices.
   uint16_t plan_bands(const ViewTriangle& view) const;
   // The box of the samples a projected part can cover (no edges yet).
@@ -876,6 +932,7 @@ class TilerFrame {
   BandRows band_;
   BandPlan plan_;
   NodeRects node_rects_;
+  PlaneCache plane_cache_;
   VertexCache vertices_;
   bool cached_ = false;  // vertices_ holds entries
   BandWriter* writer_ = nullptr;
@@ -909,7 +966,7 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
   if (!s.ok()) return finish(s.code == StatusCode::ArenaTooSmall ? error(s.code, s.message, need) : s, arena);
   light_ = make_light(view_);
   BandWriter writer(out_, st_, row);
-  writer.use_textures(&pager_, &view_, segment_rows);
+  writer.use_textures(&pager_, &view_, segment_rows, &plane_cache_);
   writer_ = &writer;
   band_.factor = sample_factor(options_);
   if (jittered(options_)) {
@@ -945,6 +1002,8 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
       plan_.keep_facings(arena, scene_.triangle_count);
     const size_t rects = NodeRects::bytes(scene_.bsp_node_count, out_.band_count());
     if (rects > 0 && arena.size() - arena.used() >= pyramid + rects) node_rects_.init(arena, scene_.bsp_node_count);
+    const size_t planes = pager_.active() ? PlaneCache::bytes(scene_, out_.band_count()) : 0;
+    if (planes > 0 && arena.size() - arena.used() >= pyramid + planes) plane_cache_.init(arena);
     // The vertex cache in what the bands' pyramid leaves beside the plan.
     if (kVertexCache) vertices_.init(arena, scene_, view_, vertex_cache_entries(scene_), pyramid);
     cached_ = kVertexCache && vertices_.entries() > 0;
@@ -1272,7 +1331,7 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
 
 size_t tiler_plan_bytes(const Scene& scene, int bands) {
   return BandPlan::entry_bytes(scene.bsp_piece_count, bands) + BandPlan::facing_bytes(scene.triangle_count) +
-         NodeRects::bytes(scene.bsp_node_count, bands);
+         NodeRects::bytes(scene.bsp_node_count, bands) + PlaneCache::bytes(scene, bands);
 }
 
 size_t tiler_cache_bytes(const Scene& scene) {
