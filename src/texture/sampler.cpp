@@ -547,9 +547,10 @@ Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut,
 // code budget: texture_rows' samples one by one, each exact.)
 constexpr int32_t kExactChunk = 16;
 
-template <TexelFormat F>
-void exact_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
-                Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out) {
+// The runs: run_at(k) for k < count (texture_rows' rows, texture_runs' runs).
+template <TexelFormat F, typename RunAt>
+void exact_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
+                Pixel colour, int32_t count, RunAt run_at, Pixel* out) {
   int32_t uv[kExactChunk][2];
   const bool nearest = lut && t.filter != uint8_t(TextureFilter::Bilinear);
   const bool filter_white = lut && !nearest && lut_colour == 0xFFFFFF;
@@ -558,10 +559,11 @@ void exact_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, 
   const LutTexels<F> fetch(t, bytes, lut);
   const int sb[2] = {16 - p.size_bits[0], 16 - p.size_bits[1]};  // floor(u W / 2^16) for W = 2^size_bits
   const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
-  for (int32_t r = 0; r < rows; ++r)
-    for (int32_t at = 0; at < n; at += kExactChunk) {
-      const int32_t m = min_of(kExactChunk, n - at);
-      exact_texture_row(p, x + at, y + r, m, uv);
+  for (int32_t k = 0; k < count; ++k) {
+    const SampleRun run = run_at(k);
+    for (int32_t at = 0; at < run.n; at += kExactChunk) {
+      const int32_t m = min_of(kExactChunk, run.n - at);
+      exact_texture_row(p, run.x + at, run.y, m, uv);
       if (nearest) {
         for (int32_t i = 0; i < m; ++i) {
           const Pixel texel =
@@ -581,6 +583,19 @@ void exact_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, 
         *out++ = lut ? sample_texture(t, bytes, lut, lut_colour, uv[i], colour, true)
                      : textured_colour(t, bytes, uv[i], colour, true);
     }
+  }
+}
+
+// exact_runs for texture_rows' block of rows and texture_runs' runs, format F.
+template <TexelFormat F>
+void exact_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
+                Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out) {
+  exact_runs<F>(p, t, bytes, lut, lut_colour, colour, rows, [&](int32_t r) { return SampleRun{x, y + r, n}; }, out);
+}
+template <TexelFormat F>
+void exact_list(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
+                Pixel colour, const SampleRun* runs, int32_t count, Pixel* out) {
+  exact_runs<F>(p, t, bytes, lut, lut_colour, colour, count, [&](int32_t k) { return runs[k]; }, out);
 }
 #endif
 
@@ -670,6 +685,24 @@ void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes
       left -= m;
       out += m;
     }
+}
+
+void texture_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
+                  Pixel colour, const SampleRun* runs, int32_t count, Pixel* out) {
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+  if (p.exact) {
+    switch (TexelFormat(t.format)) {
+      case TexelFormat::Palette8: return exact_list<TexelFormat::Palette8>(p, t, bytes, lut, lut_colour, colour, runs, count, out);
+      case TexelFormat::Grey4: return exact_list<TexelFormat::Grey4>(p, t, bytes, lut, lut_colour, colour, runs, count, out);
+      case TexelFormat::Rgb565: return exact_list<TexelFormat::Rgb565>(p, t, bytes, lut, lut_colour, colour, runs, count, out);
+      default: break;
+    }
+  }
+#endif
+  for (int32_t k = 0; k < count; ++k) {
+    texture_rows(p, t, bytes, lut, lut_colour, colour, runs[k].x, runs[k].y, runs[k].n, 1, out);
+    out += runs[k].n;
+  }
 }
 
 }  // namespace ml

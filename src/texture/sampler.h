@@ -62,4 +62,13 @@ inline void texture_row(TexturePlanes& planes, const TextureTexels& texture, con
   texture_rows(planes, texture, bytes, lut, lut_colour, colour, x, y, n, 1, out);
 }
 
+// Samples x .. x + n - 1 of lattice row y.
+struct SampleRun {
+  int32_t x, y, n;
+};
+// texture_row for each of `count` runs, their colours one after another in out: the tiler's block of
+// a small triangle, a few short runs (the format and the table looked at once for them all).
+void texture_runs(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
+                  Pixel lut_colour, Pixel colour, const SampleRun* runs, int32_t count, Pixel* out);
+
 }  // namespace ml

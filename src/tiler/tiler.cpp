@@ -309,8 +309,8 @@ class BandWriter : public CoverageWriter {
     }
   }
 
-  // An 8x8 block's newly covered samples (mask) of a small flat textured triangle, one texture_row a
-  // run of a row: no rectangles through write() (its block is a few short rows). False for other
+  // An 8x8 block's newly covered samples (mask) of a small flat textured triangle, its runs of rows in
+  // one texture_runs: no rectangles through write() (its block is a few short rows). False for other
   // pieces, or when the pager falls back (the caller's runs then draw them).
   [[gnu::noinline]] bool write_textured_block(uint64_t mask, int x, int y) {
     TexturePlanes& planes = texture_planes();
@@ -321,14 +321,22 @@ class BandWriter : public CoverageWriter {
     stats_->pixel_writes += n;
     stats_->shading_calls += n;
     lookup_lut(bytes, uint32_t(n), true);
-    const TextureTexels& t = scene_->texture_texels[texture_];
+    static_assert(kRowPixels >= 64, "a block's colours fit the row buffer");
+    SampleRun runs[32];  // at most 4 runs a row of 8
+    int32_t count = 0;
     while (mask != 0) {
       const int at = __builtin_ctzll(mask), row = at >> 3, start = at & 7;
       const uint32_t rest = uint32_t(mask >> at) & (0xFFu >> start);  // the row from the run's start
       const int run = __builtin_ctz(~rest);                             // ends at the row's end at the latest
-      texture_row(planes, t, bytes, lut_, lut_colour_, colors_.flat, x + start, y + row, run, row_);
-      out_.put_row(x + start, y + row, row_, run);
+      runs[count++] = SampleRun{x + start, y + row, run};
       mask &= ~(((uint64_t(1) << run) - 1) << at);
+    }
+    // One texture_runs for the block, then its runs out.
+    texture_runs(planes, scene_->texture_texels[texture_], bytes, lut_, lut_colour_, colors_.flat, runs, count, row_);
+    const Pixel* colours = row_;
+    for (int32_t k = 0; k < count; ++k) {
+      out_.put_row(runs[k].x, runs[k].y, colours, runs[k].n);
+      colours += runs[k].n;
     }
     return true;
   }

@@ -236,6 +236,54 @@ TEST(TextureMapping, RowsGiveTheColoursSampleBySample) {
   EXPECT_GT(compared, 100000u);
 }
 
+// texture_runs as the tiler calls it for a small triangle's block: runs of a few samples on a few
+// rows, in one call, give the colours sample by sample (small triangles and larger ones, every format,
+// filter and wrap, the table of the colour or the white one).
+TEST(TextureMapping, RunsOfABlockGiveTheColoursSampleBySample) {
+  std::mt19937 rng(17);
+  const ml::TexelFormat formats[] = {ml::TexelFormat::Rgb565, ml::TexelFormat::Palette8, ml::TexelFormat::Grey4};
+  size_t compared = 0;
+  for (int n = 0; n < 90; ++n) {
+    const Case c = random_case(rng);
+    const RandomTexture tex(rng, formats[n % 3], c.width, c.height);
+    const ml::Pixel colour = n % 4 == 0 ? 0xFFFFFF : ml::Pixel(rng() & 0xFFFFFF);
+    ml::TexturePlanes planes = planes_for(c, tex.t);
+    planes.exact = n % 3 != 2;
+    const ml::TexturePlanes one = planes;
+    const ml::Pixel lut_colour = n % 2 ? 0xFFFFFF : colour;
+    std::vector<ml::Pixel> lut(ml::kTexelLutEntries);
+    ml::make_texel_lut(tex.t, tex.bytes.data(), lut_colour, lut.data());
+    for (int k = 0; k < 40; ++k) {
+      // An 8x8 block's runs: up to 4 a row, left to right.
+      const int32_t bx = int32_t(rng() % 312), by = int32_t(rng() % 232);
+      std::vector<ml::SampleRun> runs;
+      for (int32_t row = 0; row < 8; ++row)
+        for (int32_t at = int32_t(rng() % 3); at < 8; at += 2 + int32_t(rng() % 3)) {
+          const int32_t len = std::min<int32_t>(8 - at, 1 + int32_t(rng() % 3));
+          runs.push_back(ml::SampleRun{bx + at, by + row, len});
+          at += len - 1;
+        }
+      size_t total = 0;
+      for (const ml::SampleRun& r : runs) total += size_t(r.n);
+      std::vector<ml::Pixel> got(total, 0);
+      ml::texture_runs(planes, tex.t, tex.bytes.data(), lut.data(), lut_colour, colour, runs.data(),
+                       int32_t(runs.size()), got.data());
+      size_t i = 0;
+      for (const ml::SampleRun& r : runs)
+        for (int32_t j = 0; j < r.n; ++j, ++i) {
+          int32_t uv[2];
+          ml::TexturePlanes at = one;
+          ml::texture_uv(at, r.x + j, r.y, uv);
+          ASSERT_EQ(got[i], ml::sample_texture(tex.t, tex.bytes.data(), uv, colour, one.exact))
+              << "case " << n << " sample " << r.x + j << "," << r.y << " format " << int(tex.t.format)
+              << " filter " << int(tex.t.filter);
+          ++compared;
+        }
+    }
+  }
+  EXPECT_GT(compared, 30000u);
+}
+
 // Nearest runs whose texel indices cross the texture's edges a few times (coordinates over a few
 // periods, long runs), for every pair of wrap modes and both directions along the row: the runs cut
 // at the wrap's cells give the colours sample by sample.
