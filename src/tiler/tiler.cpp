@@ -287,7 +287,8 @@ class BandWriter : public CoverageWriter {
                               &texture_planes_, whole_view_);
       plane_cache_->keep(triangle_, texture_planes_);
     }
-    use_segment_rows(&texture_planes_, segment_rows_, kSegmentRowBits);
+    // A small triangle's samples are divided one by one: no segments to keep (planes' rows stay null).
+    if (!texture_planes_.exact) use_segment_rows(&texture_planes_, segment_rows_, kSegmentRowBits);
     texture_ready_ = true;
     return texture_planes_;
   }
