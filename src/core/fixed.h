@@ -173,12 +173,26 @@ inline int64_t div_floor(int64_t n, int64_t d) {
 // Reciprocal 2^bits / d rounded, for d > 0, bits <= 62.
 inline int64_t reciprocal(int64_t d, int bits) { return div_round(int64_t(1) << bits, d); }
 
-// floor(sqrt(v)) for any uint64, exact, no float: a 32-bit root of v's top bits, one Newton step
-// and a correction (fixed.cpp).
+// floor(sqrt(v)) for any uint64, exact, no float (fixed.cpp): on 64-bit hosts Newton steps from a
+// table's start; on 32-bit boards a 32-bit root of v's top bits, one Newton step and a correction.
 uint64_t isqrt64(uint64_t v);
 
 // Number of significant bits of v (0 for v == 0).
 inline int bit_length(uint64_t v) { return v ? 64 - __builtin_clzll(v) : 0; }
+
+// Set bits of v. On 64-bit hosts summed in place (__builtin_popcountll is a library call on the
+// baseline x86-64: about 20 instructions and a call); the boards keep the library's, whose one copy
+// is smaller than these 64-bit steps inline (Cortex-M0+: about 150 bytes a use).
+inline int bit_count64(uint64_t v) {
+#if UINTPTR_MAX == 0xFFFFFFFFu
+  return __builtin_popcountll(v);
+#else
+  v -= (v >> 1) & 0x5555555555555555u;
+  v = (v & 0x3333333333333333u) + ((v >> 2) & 0x3333333333333333u);
+  v = (v + (v >> 4)) & 0x0F0F0F0F0F0F0F0Fu;
+  return int((v * 0x0101010101010101u) >> 56);
+#endif
+}
 
 // Exact floor(n / d) without a division per call, for a divisor used many times (a triangle's doubled
 // area in its Gouraud weights): one 32-bit reciprocal r = floor(2^44 / (d' + 1)) of d normalized to

@@ -47,6 +47,7 @@ class PixelPacker {
   void init(PixelFormat format, bool dither) {
     format_ = format;
     dither_ = dither && format_is_lossy(format);
+    mask_ready_ = false;
   }
   PixelFormat format() const { return format_; }
   // n pixels of one row from a buffer.
@@ -58,11 +59,15 @@ class PixelPacker {
   // (nothing written) when the stored value depends on the position (dithering) or the format has
   // less than 16 bits a pixel (grey dithers by default; one loop less in a board's flash): then the
   // caller fills the mask's runs.
-  bool fill_mask(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, Pixel value) const;
+  bool fill_mask(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, Pixel value);
 
  private:
   PixelFormat format_ = PixelFormat::Xrgb8888;
   bool dither_ = false;
+  // The stored bytes of the value fill_mask quantized last (a piece's blocks share one colour).
+  bool mask_ready_ = false;
+  Pixel mask_value_ = 0;
+  uint8_t mask_pattern_[4] = {};
 };
 
 }  // namespace ml

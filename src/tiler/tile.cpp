@@ -451,6 +451,16 @@ uint64_t HierTiler::box_bits(int level, int mx, int my) const {
   return box_mask((bx0_ >> sub) - mx * 8, (bx1_ >> sub) - mx * 8, (by0_ >> sub) - my * 8, (by1_ >> sub) - my * 8);
 }
 
+// box_bits of finest block (bx, by), without the level arithmetic on 64-bit hosts. The boards call
+// box_bits: the mask inline costs a Cortex-M0+ about 400 bytes of flash.
+inline uint64_t HierTiler::block_box(int bx, int by) const {
+#if UINTPTR_MAX == 0xFFFFFFFFu
+  return box_bits(pyr_->layout.finest(), bx, by);
+#else
+  return box_mask(bx0_ - bx * 8, bx1_ - bx * 8, by0_ - by * 8, by1_ - by * 8);
+#endif
+}
+
 // Whether the polygon's box holds an uncovered sample inside this (not covered) cell: a descent
 // through the pyramid over the box, no edge arithmetic, first uncovered sample wins.
 bool HierTiler::box_uncovered(int level, int mx, int my) const {
@@ -459,10 +469,14 @@ bool HierTiler::box_uncovered(int level, int mx, int my) const {
   const TriageMask& m = pyr_->mask(level, mx, my);
   if (box & m.v) return true;  // a vacant subcell is wholly on screen: every sample in it is uncovered
   uint64_t a = box & ~(m.c | m.v);
+  // Blocks (the finest level) are tested here: no recursive call a block.
+  const bool child_finest = level + 1 == pyr_->layout.finest();
   while (a != 0) {
     const int bit = __builtin_ctzll(a);
     a &= a - 1;
-    if (box_uncovered(level + 1, mx * 8 + (bit & 7), my * 8 + (bit >> 3))) return true;
+    const int cx = mx * 8 + (bit & 7), cy = my * 8 + (bit >> 3);
+    if (child_finest ? (block_box(cx, cy) & ~pyr_->block(cx, cy)) != 0 : box_uncovered(level + 1, cx, cy))
+      return true;
   }
   return false;
 }
@@ -477,10 +491,9 @@ bool HierTiler::start_cell(const ConvexPoly& poly, int* level, int* mx, int* my)
   int m = (bit_length(d) + 2) / 3;
   if (m < 1) m = 1;
   const int target = lay.levels - m;
-  for (int l = 0; l < target; ++l) {
-    const int s = lay.shift(l), sub = s - 3;
-    const int col = (poly.min_x >> sub) & 7, row = (poly.min_y >> sub) & 7;
-    if (pyr_->mask(l, poly.min_x >> s, poly.min_y >> s).c & (uint64_t(1) << (row * 8 + col))) return false;
+  for (int l = 0, sub = lay.shift(0) - 3; l < target; ++l, sub -= 3) {
+    const int cx = poly.min_x >> sub, cy = poly.min_y >> sub;  // the level-(l + 1) cell on the path
+    if ((pyr_->mask(l, cx >> 3, cy >> 3).c >> ((cy & 7) * 8 + (cx & 7))) & 1) return false;
   }
   const int s = lay.shift(target);
   *level = target;
@@ -514,21 +527,12 @@ void HierTiler::propagate_up(int level, int mx, int my) {
 
 // Whether a cell's ancestor (a subcell of a coarser mask on its path) is covered: the cell's contents
 // may then be stale.
-bool HierTiler::covered_above(int level, int mx, int my) const {
-  const PyramidLayout& lay = pyr_->layout;
-  const int s0 = lay.shift(level), x = mx << s0, y = my << s0;  // in samples
-  for (int l = 0; l < level; ++l) {
-    const int s = lay.shift(l), sub = s - 3;
-    const uint64_t bit = uint64_t(1) << (((y >> sub) & 7) * 8 + ((x >> sub) & 7));
-    if (pyr_->mask(l, x >> s, y >> s).c & bit) return true;
+inline bool HierTiler::covered_above(int level, int mx, int my) const {
+  for (int l = 0, d = 3 * (level - 1); l < level; ++l, d -= 3) {
+    const int cx = mx >> d, cy = my >> d;  // the level-(l + 1) cell on the path: a subcell of mask l
+    if ((pyr_->mask(l, cx >> 3, cy >> 3).c >> ((cy & 7) * 8 + (cx & 7))) & 1) return true;
   }
   return false;
-}
-
-// The samples of finest block (bx, by) inside the polygon's sample box (box_bits at the finest level,
-// without the level arithmetic).
-inline uint64_t block_box(const ConvexPoly& poly, int bx, int by) {
-  return box_mask(poly.min_x - bx * 8, poly.max_x - bx * 8, poly.min_y - by * 8, poly.max_y - by * 8);
 }
 
 // The hierarchy costs a small polygon more than it saves: its coverage comes row by row from the
@@ -545,23 +549,30 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
   // array cleared, a memset of 200 bytes a call).
   uint64_t cover[kSmallBoxBlocks][kSmallBoxBlocks];
   bool open = false;
-  // Blocks share their parent's ancestors (at most 2 x 2 parents): those are looked up once a parent.
+  // The box's columns in its first and last block columns, and its rows in its first and last block
+  // rows (the blocks between are whole): a block's samples in the box are one product of the two.
+  const uint32_t col_first = (0xFFu << (poly.min_x & 7)) & 0xFFu, col_last = 0xFFu >> (7 - (poly.max_x & 7));
+  const uint64_t row_first = kAll << (8 * (poly.min_y & 7)), row_last = kAll >> (8 * (7 - (poly.max_y & 7)));
+  // Blocks share their parent's ancestors (at most 2 x 2 parents): those are looked up once a parent,
+  // as the parent's covered blocks (all of them when an ancestor is covered).
   int parent_x = -1, parent_y = -1;
-  bool parent_hidden = false;
+  uint64_t parent_c = 0;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
       const int bx = cx0 + i, by = cy0 + j;
       if ((bx >> 3) != parent_x || (by >> 3) != parent_y) {
         parent_x = bx >> 3;
         parent_y = by >> 3;
-        parent_hidden = covered_above(f - 1, parent_x, parent_y);
+        parent_c = covered_above(f - 1, parent_x, parent_y) ? kAll : pyr_->mask(f - 1, parent_x, parent_y).c;
       }
-      const uint64_t bit = uint64_t(1) << ((by & 7) * 8 + (bx & 7));
-      const bool hidden = parent_hidden || (pyr_->mask(f - 1, parent_x, parent_y).c & bit) != 0;
-      done[j][i] = hidden ? kAll : pyr_->block(bx, by);
+      const uint64_t d = (parent_c >> ((by & 7) * 8 + (bx & 7))) & 1 ? kAll : pyr_->block(bx, by);
+      done[j][i] = d;
       cover[j][i] = 0;
       // The box holds samples of every block it touches: an empty block is open without its box bits.
-      open = open || done[j][i] == 0 || (done[j][i] != kAll && (block_box(poly, bx, by) & ~done[j][i]) != 0);
+      if (open || d == kAll) continue;
+      const uint32_t cols = (i == 0 ? col_first : 0xFFu) & (i == nx - 1 ? col_last : 0xFFu);
+      const uint64_t rows_in = (j == 0 ? row_first : kAll) & (j == ny - 1 ? row_last : kAll);
+      open = d == 0 || ((cols * 0x0101010101010101u) & rows_in & ~d) != 0;
     }
   *result = TileResult::Hidden;
   if (!open) return true;

@@ -182,6 +182,7 @@ class HierTiler {
   bool background_cell(int level, int mx, int my, CoverageWriter& writer);
   bool start_cell(const ConvexPoly& poly, int* level, int* mx, int* my) const;
   uint64_t box_bits(int level, int mx, int my) const;
+  uint64_t block_box(int bx, int by) const;
   bool box_uncovered(int level, int mx, int my) const;
   void propagate_up(int level, int mx, int my);
   void add_work(int level, int mx, int my);

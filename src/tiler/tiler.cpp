@@ -165,7 +165,7 @@ class BandWriter : public CoverageWriter {
     if (factor_ == 1 && !cosine_) {
       // One colour for the whole block: the mask goes to the band as it is, not run by run.
       if (texture_ == kNone && !colors_.smooth && out_.fill_mask(mask, x, band_y + top_, colors_.flat)) {
-        stats_->pixel_writes += uint64_t(__builtin_popcountll(mask));
+        stats_->pixel_writes += uint64_t(bit_count64(mask));
         return true;
       }
       if (texture_ != kNone && !colors_.smooth && write_textured_block(mask, x, band_y + top_)) return true;
@@ -180,7 +180,7 @@ class BandWriter : public CoverageWriter {
     for (int j = 0; j < per_side; ++j)
       for (int i = 0; i < per_side; ++i) {
         const uint64_t m = mask & (pixel_mask_ << (j * f * 8 + i * f));
-        if (m != 0) add_to_pixel(x / f + i, band_y / f + j, uint32_t(__builtin_popcountll(m)));
+        if (m != 0) add_to_pixel(x / f + i, band_y / f + j, uint32_t(bit_count64(m)));
       }
     return true;
   }
@@ -318,7 +318,7 @@ class BandWriter : public CoverageWriter {
     if (!planes.exact) return false;  // larger pieces: rectangles of rows (write_textured)
     const uint8_t* bytes = pager_->get(texture_);
     if (!bytes) return false;
-    const uint64_t n = uint64_t(__builtin_popcountll(mask));
+    const uint64_t n = uint64_t(bit_count64(mask));
     stats_->pixel_writes += n;
     stats_->shading_calls += n;
     lookup_lut(bytes, uint32_t(n), true);

@@ -17,8 +17,20 @@ TEST(FixedIsqrt, MatchesFloorSqrtOnRandomAndExtremeInputs) {
   std::mt19937_64 rng(7);
   std::vector<uint64_t> inputs = {0, 1, 2, 3, 4, 15, 16, 17, UINT64_MAX, UINT64_MAX - 1,
                                   uint64_t(1) << 62, (uint64_t(1) << 62) - 1, uint64_t(4294967295u) * 4294967295u};
-  for (int i = 0; i < 20000; ++i) inputs.push_back(rng() >> (rng() % 64));
+  for (int i = 0; i < 400000; ++i) inputs.push_back(rng() >> (rng() % 64));
   for (uint64_t r = 1; r < 100000; r += 97) { inputs.push_back(r * r); inputs.push_back(r * r - 1); }
+  // Every power of two and its neighbours; squares and their neighbours at every root bit length
+  // (where a Newton start or a stopping test would be off by one), up to the largest root 2^32 - 1.
+  for (int b = 0; b < 64; ++b)
+    for (int d = -3; d <= 3; ++d) inputs.push_back((uint64_t(1) << b) + uint64_t(int64_t(d)));
+  for (int b = 1; b <= 32; ++b)
+    for (uint64_t r : {(uint64_t(1) << b) - 1, uint64_t(1) << (b - 1), (uint64_t(3) << b) / 4}) {
+      inputs.push_back(r * r - 1);
+      inputs.push_back(r * r);
+      inputs.push_back(r * r + 1);
+      inputs.push_back(r * r + 2 * r);  // (r + 1)^2 - 1
+    }
+  for (uint64_t i = 0; i < 5000; ++i) inputs.push_back(UINT64_MAX - i);
   for (uint64_t v : inputs) {
     const uint64_t s = ml::isqrt64(v);
     // floor(sqrt(v)): s^2 <= v < (s+1)^2, checked without overflow in long double-free integer math.
@@ -26,6 +38,18 @@ TEST(FixedIsqrt, MatchesFloorSqrtOnRandomAndExtremeInputs) {
     ASSERT_LE(s * s, v) << v;
     const unsigned __int128 next = (unsigned __int128)(s + 1) * (s + 1);
     ASSERT_GT(next, (unsigned __int128)v) << v;
+  }
+}
+
+TEST(FixedBits, BitCountEqualsCountingEachBit) {
+  std::mt19937_64 rng(5);
+  std::vector<uint64_t> inputs = {0, 1, UINT64_MAX, uint64_t(1) << 63, 0x8000000000000001u, 0xFF00FF00FF00FF00u};
+  for (int b = 0; b < 64; ++b) inputs.push_back((uint64_t(2) << b) - 1);
+  for (int i = 0; i < 20000; ++i) inputs.push_back(rng() & rng() & (rng() | rng()));
+  for (uint64_t v : inputs) {
+    int n = 0;
+    for (int b = 0; b < 64; ++b) n += int(v >> b & 1);
+    ASSERT_EQ(ml::bit_count64(v), n) << std::hex << v;
   }
 }
 

@@ -43,15 +43,18 @@ TEST(PixelFormat, StoreLoadRoundTripsAndKeepsNeighbours) {
 TEST(PixelFormat, FillMaskEqualsFillOfEachSetPixel) {
   std::mt19937 rng(11);
   for (ml::PixelFormat f : kAll)
-    for (bool dither : {false, true})
+    for (bool dither : {false, true}) {
+      // One packer for every trial: it keeps the last colour's stored bytes, so colours change and
+      // repeat from block to block as a frame's pieces do.
+      ml::PixelPacker packer;
+      packer.init(f, dither);
+      ml::Pixel last = 0;
       for (int trial = 0; trial < 40; ++trial) {
         const int width = 29, rows = 24;
         const uint32_t stride = ml::format_stride(f, width);
         std::vector<uint8_t> by_mask(ml::format_band_bytes(f, width, rows) + 4);
         for (uint8_t& b : by_mask) b = uint8_t(rng());
         std::vector<uint8_t> by_fill = by_mask;
-        ml::PixelPacker packer;
-        packer.init(f, dither);
         // Full rows, empty rows and ragged ones.
         uint64_t mask = (uint64_t(rng()) << 32) | rng();
         mask &= (uint64_t(rng()) << 32) | rng();
@@ -63,7 +66,8 @@ TEST(PixelFormat, FillMaskEqualsFillOfEachSetPixel) {
         const int x = int(rng() % uint32_t(width - 7));
         const int row = int(rng() % uint32_t(rows - 7));
         const int frame_y = row + 40;
-        const ml::Pixel value = rng() & 0xFFFFFF;
+        const ml::Pixel value = trial % 3 == 2 ? last : rng() & 0xFFFFFF;
+        last = value;
         const bool whole_bytes = ml::format_bits_per_pixel(f) >= 16 && !(dither && ml::format_is_lossy(f));
         ASSERT_EQ(packer.fill_mask(by_mask.data(), stride, x, row, mask, value), whole_bytes);
         if (!whole_bytes) {
@@ -75,6 +79,7 @@ TEST(PixelFormat, FillMaskEqualsFillOfEachSetPixel) {
             packer.fill(by_fill.data(), stride, x + (bit & 7), row + (bit >> 3), frame_y + (bit >> 3), 1, 1, value);
         ASSERT_EQ(by_mask, by_fill) << "format " << int(f) << " dither " << dither << " mask " << std::hex << mask;
       }
+    }
 }
 
 TEST(PixelFormat, QuantizesToNearestAndExpandsBack) {
