@@ -45,8 +45,6 @@ struct PixelSum {
   uint16_t r, g, b, samples;
 };
 
-// Turns newly covered sample blocks (band-local rows) into band-buffer writes of the current piece's
-// colours. Colours are computed on the first write, so hidden pieces cost no shading.
 // Textured triangles' texture planes kept from one band to the next when the arena has room
 // (tiler_plan_bytes; frames of several bands, scenes with texels): a piece the band edges cut is
 // drawn in every band it reaches, and its planes (the cross products and the small-triangle box,
@@ -87,6 +85,8 @@ class PlaneCache {
   Set* sets_ = nullptr;
 };
 
+// Turns newly covered sample blocks (band-local rows) into band-buffer writes of the current piece's
+// colours. Colours are computed on the first write, so hidden pieces cost no shading.
 class BandWriter : public CoverageWriter {
  public:
   BandWriter(BandOutput& out, Stats* stats, Pixel* row) : out_(out), stats_(stats), row_(row) {}
@@ -837,12 +837,16 @@ class BandPlan {
 // per-band cost of small scenes' walks (the duck at 320x240 in 16-row bands: 28.6 M -> 25.5 M).
 class NodeRects {
  public:
-  static size_t bytes(uint32_t nodes, int bands) { return bands < 2 ? 0 : arena_worst_case(sizeof(Rect) * nodes, 4); }
+  // A 64-bit host's, as the plan's extras: on the boards their bytes would pass the RAM budgets
+  // docs/firmware.md states (the Cortex-M3 tiler frames gained 2.4 % with them).
+  static size_t bytes(uint32_t nodes, int bands) {
+    return !BandPlan::kExtras || bands < 2 ? 0 : arena_worst_case(sizeof(Rect) * nodes, 4);
+  }
   void init(Arena& arena, uint32_t nodes) {
     rects_ = arena.allocate_array<Rect>(nodes);
     for (uint32_t i = 0; rects_ && i < nodes; ++i) rects_[i].x0 = kUnknown;
   }
-  bool active() const { return rects_ != nullptr; }
+  bool active() const { return BandPlan::kExtras && rects_ != nullptr; }
   // Node i's rectangle (pixels, inclusive, unclipped: box_screen_rect's), or false when its box
   // reaches the near plane (nothing known); made by `make` on the first call.
   template <typename Make>
@@ -1174,25 +1178,25 @@ bool TilerFrame::subtree_hidden(uint32_t index, uint32_t subtree_pieces) {
   if (subtree_pieces == 0) return true;
   const BandRows& band = band_;
   int32_t x0, y0, x1, y1;  // pixels
-  auto rect = [&](int32_t* rx0, int32_t* ry0, int32_t* rx1, int32_t* ry1) {
+  // The box's rectangle; false when the box reaches the near plane (nothing is known). With
+  // test_rows a box outside the band's rows sets `outside` instead, without a division (the
+  // rectangle's row test, exactly): most subtrees lie outside most bands.
+  bool outside = false;
+  auto rect = [&](int32_t* rx0, int32_t* ry0, int32_t* rx1, int32_t* ry1, bool test_rows) {
     BspNode node;  // its box alone (the walk's copy of the rest is not copied a test)
     bsp_node_box(scene_, index, &node);
     ViewBox vbox;
     if (!view_box(view_, node, &vbox)) return false;
-    box_screen_rect(view_, vbox, rx0, ry0, rx1, ry1);
+    outside = test_rows && box_outside_rows(view_, vbox, band.top, band.top + band.rows);
+    if (!outside) box_screen_rect(view_, vbox, rx0, ry0, rx1, ry1);
     return true;
   };
   if (node_rects_.active()) {
-    if (!node_rects_.get(index, &x0, &y0, &x1, &y1, rect)) return false;
+    auto make = [&](int32_t* rx0, int32_t* ry0, int32_t* rx1, int32_t* ry1) { return rect(rx0, ry0, rx1, ry1, false); };
+    if (!node_rects_.get(index, &x0, &y0, &x1, &y1, make)) return false;
   } else {
-    BspNode node;
-    bsp_node_box(scene_, index, &node);
-    ViewBox vbox;
-    if (!view_box(view_, node, &vbox)) return false;
-    // Most subtrees lie outside most bands: that is decided without a division (the rows of the
-    // rectangle below, exactly).
-    if (box_outside_rows(view_, vbox, band.top, band.top + band.rows)) return true;
-    box_screen_rect(view_, vbox, &x0, &y0, &x1, &y1);
+    if (!rect(&x0, &y0, &x1, &y1, true)) return false;
+    if (outside) return true;
   }
   x0 = max_of(x0, 0);
   x1 = min_of(x1, view_.width - 1);
@@ -1303,6 +1307,7 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
   const int n = project_triangle(view_, transform(), facing, parts, false);  // the tiler reads no depths
   writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0, split ? nullptr : &view);
   ViewTriangle whole_view;  // a split piece's whole triangle, when projected below (its texture planes take it too)
+  ScreenTriangle whole_parts[kMaxClipTriangles];  // and its projection (valid while the part is tiled)
   for (int i = 0; i < n; ++i) {
     const int f = band_.factor;
     ConvexPoly poly;
@@ -1315,9 +1320,11 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
     const bool whole_clip = n == 1 && split;
     if (whole_clip && !tiler_.box_visible(box)) continue;
     poly_edges(parts[i], &poly);
+    const ScreenTriangle* colour_part = &parts[i];  // the triangle its colour planes are made on
     if (whole_clip) {
-      // The whole triangle, projected (its texture planes take its view too).
-      ScreenTriangle whole_parts[kMaxClipTriangles];
+      // The whole triangle, projected (its texture planes take its view too, and its colour planes
+      // its screen triangle: the piece's own corners are split points, not the vertices whose
+      // colours shade_triangle gives).
       if (cached) vertices_.view(tri.batch, tri.v, &whole_view); else view_triangle(view_, whole(), &whole_view);
       writer_->use_whole_view(&whole_view);
       if (project_triangle(view_, whole_view, facing, whole_parts, false) == 1) {
@@ -1325,11 +1332,12 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
         part_box(whole_parts[0], &whole_poly);
         poly_edges(whole_parts[0], &whole_poly);
         clip_to_triangle(view_, parts[0], whole_poly, f, camera_.width * f, camera_.height * f, &poly);
+        colour_part = &whole_parts[0];
       }
     }
     if (!band_.clip(&poly)) continue;
     ++st_->triangles_tiled;
-    writer_->begin_part(&parts[i], have_whole ? whole_world : nullptr);
+    writer_->begin_part(colour_part, have_whole ? whole_world : nullptr);
     if (tiler_.tile(poly, *writer_) == TileResult::Failed)
       return false;
   }
