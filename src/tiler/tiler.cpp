@@ -912,6 +912,10 @@ class TilerFrame {
   // 2CylinderEngine's 102 M at 320x240); on the boards the compiler's own choice is smaller and faster
   // (forced inline: m0plus 19.69 M -> 19.78 M a frame, 124 bytes more code).
   ML_HOST_INLINE bool draw_piece(uint32_t index, uint16_t entry);
+  // A split piece's part clipped to its whole triangle; the triangle its colour planes take.
+  const ScreenTriangle* clip_to_whole(const Triangle& tri, const Vec3i* whole_world, int facing,
+                                      const ScreenTriangle& part, ViewTriangle* whole_view,
+                                      ScreenTriangle whole_parts[kMaxClipTriangles], ConvexPoly* poly);
   // The plan entry of a piece facing the eye, from its view-space vertices.
   uint16_t plan_bands(const ViewTriangle& view) const;
   // The box of the samples a projected part can cover (no edges yet).
@@ -1244,6 +1248,26 @@ void TilerFrame::part_box(const ScreenTriangle& part, ConvexPoly* poly) const {
   triangle_sample_box(part, band_.factor, camera_.width, camera_.height, jittered(options_), poly);
 }
 
+// A split piece's part clipped to its whole triangle's edges (Frame step 4, docs/tiler.md). The whole
+// triangle is transformed from whole_world, or from the vertex cache when that is null; its view is
+// the one the piece's texture planes take. Returns the triangle the part's colour planes are made on:
+// the whole triangle's screen triangle when it projects unclipped (the piece's own corners are split
+// points, not the vertices whose colours shade_triangle gives), else the part itself.
+const ScreenTriangle* TilerFrame::clip_to_whole(const Triangle& tri, const Vec3i* whole_world, int facing,
+                                                const ScreenTriangle& part, ViewTriangle* whole_view,
+                                                ScreenTriangle whole_parts[kMaxClipTriangles], ConvexPoly* poly) {
+  if (!kVertexCache || whole_world) view_triangle(view_, whole_world, whole_view);
+  else vertices_.view(tri.batch, tri.v, whole_view);
+  writer_->use_whole_view(whole_view);
+  if (project_triangle(view_, *whole_view, facing, whole_parts, false) != 1) return &part;
+  const int f = band_.factor;
+  ConvexPoly whole_poly;
+  part_box(whole_parts[0], &whole_poly);
+  poly_edges(whole_parts[0], &whole_poly);
+  clip_to_triangle(view_, part, whole_poly, f, camera_.width * f, camera_.height * f, poly);
+  return &whole_parts[0];
+}
+
 inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
   writer_->clear_piece();
   const bool planned = plan_.active();
@@ -1309,7 +1333,6 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
   ViewTriangle whole_view;  // a split piece's whole triangle, when projected below (its texture planes take it too)
   ScreenTriangle whole_parts[kMaxClipTriangles];  // and its projection (valid while the part is tiled)
   for (int i = 0; i < n; ++i) {
-    const int f = band_.factor;
     ConvexPoly poly;
     part_box(parts[i], &poly);
     ConvexPoly box;  // the band's part of the box alone
@@ -1320,21 +1343,9 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
     const bool whole_clip = n == 1 && split;
     if (whole_clip && !tiler_.box_visible(box)) continue;
     poly_edges(parts[i], &poly);
-    const ScreenTriangle* colour_part = &parts[i];  // the triangle its colour planes are made on
-    if (whole_clip) {
-      // The whole triangle, projected (its texture planes take its view too, and its colour planes
-      // its screen triangle: the piece's own corners are split points, not the vertices whose
-      // colours shade_triangle gives).
-      if (cached) vertices_.view(tri.batch, tri.v, &whole_view); else view_triangle(view_, whole(), &whole_view);
-      writer_->use_whole_view(&whole_view);
-      if (project_triangle(view_, whole_view, facing, whole_parts, false) == 1) {
-        ConvexPoly whole_poly;
-        part_box(whole_parts[0], &whole_poly);
-        poly_edges(whole_parts[0], &whole_poly);
-        clip_to_triangle(view_, parts[0], whole_poly, f, camera_.width * f, camera_.height * f, &poly);
-        colour_part = &whole_parts[0];
-      }
-    }
+    const ScreenTriangle* colour_part =
+        whole_clip ? clip_to_whole(tri, cached ? nullptr : whole(), facing, parts[0], &whole_view, whole_parts, &poly)
+                   : &parts[i];
     if (!band_.clip(&poly)) continue;
     ++st_->triangles_tiled;
     writer_->begin_part(colour_part, have_whole ? whole_world : nullptr);

@@ -116,6 +116,15 @@ ml::CompileResult random_scene(uint32_t seed, int count) {
   return ml::compile_mesh(mesh);
 }
 
+// random_scene(seed, count), compiled and loaded; false (a test failure) when it is not.
+bool load_random_scene(uint32_t seed, int count, mlhost::LoadedScene* s) {
+  const ml::CompileResult c = random_scene(seed, count);
+  std::string error;
+  if (c.ok && mlhost::adopt_compiled(c, "random", s, &error)) return true;
+  ADD_FAILURE() << "random scene " << seed << ": " << (c.ok ? error : c.error);
+  return false;
+}
+
 // A camera inside the scene's box looking at a random point: exercises near-plane and guard-band
 // clipping of triangles that reach behind the eye.
 ml::Camera inside_camera(const ml::Scene& scene, uint32_t seed, int w, int h) {
@@ -155,11 +164,8 @@ TEST_P(OracleIds, TwoCylinderEngineAt160x120) {
 TEST_P(OracleIds, RandomScenesFramedAndFromInside) {
   for (uint32_t seed = 1; seed <= 8; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
-    const ml::CompileResult c = random_scene(seed, 12 + int(seed) * 3);
-    ASSERT_TRUE(c.ok) << c.error;
     mlhost::LoadedScene s;
-    std::string error;
-    ASSERT_TRUE(mlhost::adopt_compiled(c, "random", &s, &error)) << error;
+    ASSERT_TRUE(load_random_scene(seed, 12 + int(seed) * 3, &s));
     check_against_oracle(s.scene, framing(s.scene, 96, 72), GetParam(), 0.5);
     check_against_oracle(s.scene, inside_camera(s.scene, seed, 96, 72), GetParam(), 0.3);
   }
@@ -224,11 +230,8 @@ TEST(OracleRenderersAgree, DefaultEngineAndRandomScenes) {
   if (const auto* e = engine_scene()) check_renderers_agree(e->scene, framing(e->scene, 160, 120));
   for (uint32_t seed = 1; seed <= 4; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
-    const ml::CompileResult c = random_scene(seed + 100, 30);
-    ASSERT_TRUE(c.ok) << c.error;
     mlhost::LoadedScene s;
-    std::string error;
-    ASSERT_TRUE(mlhost::adopt_compiled(c, "random", &s, &error)) << error;
+    ASSERT_TRUE(load_random_scene(seed + 100, 30, &s));
     check_renderers_agree(s.scene, framing(s.scene, 96, 72));
     check_renderers_agree(s.scene, inside_camera(s.scene, seed, 96, 72));
   }
@@ -275,11 +278,8 @@ TEST(OracleRenderersAgree, GouraudColoursOfSplitTriangles) {
   if (const auto* e = engine_scene()) split_pixels += check_gouraud_agrees(e->scene, framing(e->scene, 160, 120));
   for (uint32_t seed = 1; seed <= 2; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
-    const ml::CompileResult c = random_scene(seed + 100, 30);
-    ASSERT_TRUE(c.ok) << c.error;
     mlhost::LoadedScene s;
-    std::string error;
-    ASSERT_TRUE(mlhost::adopt_compiled(c, "random", &s, &error)) << error;
+    ASSERT_TRUE(load_random_scene(seed + 100, 30, &s));
     split_pixels += check_gouraud_agrees(s.scene, framing(s.scene, 96, 72));
   }
   EXPECT_GT(split_pixels, 100u) << "few split triangles on screen: the test would hardly test them";

@@ -390,4 +390,33 @@ inline std::vector<TestScene::Tri> random_scene(std::mt19937& rng, int count, in
   return out;
 }
 
+// A mesh of `count` triangles with random corners in [-2, 2]^3, so they cross and the BSP splits them
+// (split pieces address appended vertices); every other one in a double-sided material.
+inline ml::SceneMesh crossing_mesh(uint32_t seed, int count) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> coord(-2, 2);
+  ml::SceneMesh mesh;
+  mesh.nodes.resize(1);
+  for (uint32_t m = 0; m < 2; ++m) {
+    ml::MeshMaterial mat;
+    mat.base_color[0] = 0.2 + 0.6 * m;
+    mat.double_sided = m == 1;
+    mesh.materials.push_back(mat);
+    ml::MeshPrimitive prim;
+    prim.material = m;
+    mesh.nodes[0].primitives.push_back(prim);
+  }
+  for (int t = 0; t < count; ++t) {
+    ml::MeshPrimitive& prim = mesh.nodes[0].primitives[size_t(t) % 2];
+    const uint32_t base = uint32_t(prim.vertices.size());
+    for (int k = 0; k < 3; ++k) {
+      ml::MeshVertex v;
+      for (double& c : v.position) c = coord(rng);
+      prim.vertices.push_back(v);
+    }
+    prim.triangles.push_back({base, base + 1, base + 2});
+  }
+  return mesh;
+}
+
 }  // namespace tiler_test

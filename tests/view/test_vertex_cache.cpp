@@ -203,29 +203,7 @@ void expect_same_stats(const ml::Stats& a, const ml::Stats& b, const std::string
 const mlhost::LoadedScene& crossing_scene() {
   static mlhost::LoadedScene loaded;
   if (loaded.scene.info) return loaded;
-  std::mt19937 rng(41);
-  std::uniform_real_distribution<double> coord(-2, 2);
-  ml::SceneMesh mesh;
-  mesh.nodes.resize(1);
-  for (uint32_t m = 0; m < 2; ++m) {
-    ml::MeshMaterial mat;
-    mat.base_color[0] = 0.2 + 0.6 * m;
-    mat.double_sided = m == 1;
-    mesh.materials.push_back(mat);
-    ml::MeshPrimitive prim;
-    prim.material = m;
-    mesh.nodes[0].primitives.push_back(prim);
-  }
-  for (int t = 0; t < 120; ++t) {
-    ml::MeshPrimitive& prim = mesh.nodes[0].primitives[size_t(t) % 2];
-    const uint32_t base = uint32_t(prim.vertices.size());
-    for (int k = 0; k < 3; ++k) {
-      ml::MeshVertex v;
-      for (double& c : v.position) c = coord(rng);
-      prim.vertices.push_back(v);
-    }
-    prim.triangles.push_back({base, base + 1, base + 2});
-  }
+  const ml::SceneMesh mesh = tiler_test::crossing_mesh(41, 120);
   ml::CompileResult r = ml::compile_mesh(mesh);
   EXPECT_TRUE(r.ok) << r.error;
   loaded.name = "crossing";
