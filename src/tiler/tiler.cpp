@@ -660,9 +660,6 @@ size_t sums_arena_bytes(const RenderOptions& options, int width, int rows) {
              : 0;
 }
 
-// Render bands of several bands (BandOutput, tiler_render_rows_bytes) on 64-bit hosts: a board's RAM
-// goes to the least arena, and its flash to other code.
-constexpr bool kRenderBands = sizeof(void*) >= 8;
 
 // Pyramid layout of one band (the last band may be lower than the others): width pixels, sample rows.
 bool band_layout(int width, int samples, int factor, PyramidLayout* out) {
@@ -672,7 +669,7 @@ bool band_layout(int width, int samples, int factor, PyramidLayout* out) {
 // The arena bytes that depend on the rows rendered at once (render_rows_for; 0: one band): the band
 // buffers, one band's pyramid and its antialiasing sums. 0 for a frame no pyramid can hold.
 size_t band_bytes(int width, int height, const RenderOptions& options, int render_rows) {
-  const int rows = render_rows_for(options.output, height, render_rows);
+  const int rows = kRenderBands ? render_rows_for(options.output, height, render_rows) : band_rows_for(options.output, height);
   const int factor = clamp_to(sample_factor(options), 1, kMaxTilerAa);
   PyramidLayout layout;
   if (!band_layout(width, tiled_samples(options, 0, rows, height), factor, &layout)) return 0;
