@@ -136,8 +136,9 @@ TEST(TextureMapping, WholeSegmentTestImpliesTheBound) {
 }
 
 // exact_texture_uv's coordinates as mapping.h states them, written plainly: the e_i shifted by one
-// common shift to 28 bits, sum uv_i e_i / sum e_i floored (div_floor, the divisor made positive),
-// clamped to int32; vertex 0's coordinates when the shifted sum is 0. clean: as ExactUv's.
+// common shift to kTextureWeightBits bits, sum uv_i e_i / sum e_i floored (div_floor, the divisor
+// made positive), clamped to int32; vertex 0's coordinates when the shifted sum is 0. clean: as
+// ExactUv's.
 void reference_uv(const ml::TexturePlanes& p, int32_t x, int32_t y, int32_t out[2], bool* clean) {
   int64_t e[3], denom = 0;
   uint64_t largest = 0;
@@ -146,7 +147,7 @@ void reference_uv(const ml::TexturePlanes& p, int32_t x, int32_t y, int32_t out[
     denom += e[i];
     largest |= ml::magnitude(e[i]);
   }
-  const int shift = std::max(0, ml::bit_length(largest) - 28);
+  const int shift = std::max(0, ml::bit_length(largest) - ml::kTextureWeightBits);
   int64_t total = 0;
   for (int64_t& w : e) total += (w >>= shift);
   if (total == 0) {
