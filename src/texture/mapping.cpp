@@ -150,10 +150,49 @@ void use_segment_rows(TexturePlanes* p, TextureSegment* rows, int count_bits) {
 }
 
 void exact_texture_uv(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out) {
+#if UINTPTR_MAX == 0xFFFFFFFFu
+  exact_texture_uv_looped(p, x, y, out);  // the boards' flash
+#else
   ExactSteps steps(p);
   steps.start(p, x, y);
   out->denom = steps.denom();
   out->clean = steps.here(out->uv) && out->denom != 0;
+#endif
+}
+
+void exact_texture_uv_looped(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out) {
+  int64_t e[3];
+  uint64_t largest = 0;
+  out->denom = 0;
+  for (int i = 0; i < 3; ++i) {
+    e[i] = p.a[i] * x + p.b[i] * y + p.k[i];
+    out->denom += e[i];  // |e_i| < 2^61: the sum fits
+    largest |= magnitude(e[i]);
+  }
+  const int shift = max_of(0, bit_length(largest) - kTextureWeightBits);
+  int64_t total = 0;
+  for (int i = 0; i < 3; ++i) {
+    e[i] >>= shift;
+    total += e[i];
+  }
+  if (total < 0) {
+    total = -total;
+    for (int i = 0; i < 3; ++i) e[i] = -e[i];
+  }
+  if (total == 0) {  // the ray grazes the triangle's plane: any vertex will do
+    out->uv[0] = p.uv[0][0];
+    out->uv[1] = p.uv[0][1];
+    out->clean = false;
+    return;
+  }
+  out->clean = out->denom != 0;
+  for (int k = 0; k < 2; ++k) {
+    // |uv| < 2^31 and |e| < 2^28: the sum stays below 2^61; total < 2^30 divides in 32 bits.
+    const int64_t sum = p.uv[0][k] * e[0] + p.uv[1][k] * e[1] + p.uv[2][k] * e[2];
+    const int64_t q = div_floor(sum, total);
+    if (q < INT32_MIN || q > INT32_MAX) out->clean = false;
+    out->uv[k] = int32_t(clamp_to<int64_t>(q, INT32_MIN, INT32_MAX));
+  }
 }
 
 void exact_texture_row(const TexturePlanes& p, int32_t x, int32_t y, int32_t n, int32_t (*uv)[2]) {

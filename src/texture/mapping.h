@@ -102,8 +102,13 @@ void make_texture_planes(const View& view, const Vec3i world[3], const int32_t u
 // that draws a block row by row finds the segments again in the next block.
 void use_segment_rows(TexturePlanes* planes, TextureSegment* rows, int count_bits);
 
-// The exact coordinates at lattice sample (X, Y) >= 0: sum uv_i e_i / sum e_i, floored.
+// The exact coordinates at lattice sample (X, Y) >= 0: sum uv_i e_i / sum e_i, floored (ExactSteps'
+// division, below).
 void exact_texture_uv(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out);
+// The same division as a loop over the vertices and axes: exact_texture_uv on 32-bit boards, whose
+// flash it spares (about 330 bytes on the Cortex-M0+ against ExactSteps written out). The same
+// coordinates (TextureMapping.ExactDivisionIsTheFlooredQuotient checks both on the host).
+void exact_texture_uv_looped(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out);
 
 // exact_texture_uv's coordinates of samples x .. x + n - 1 of row y (x >= 0), into uv: the planes
 // stepped along the row, one division a coordinate and sample.
