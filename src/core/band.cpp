@@ -39,7 +39,7 @@ Status BandOutput::check(const OutputOptions& output) {
 
 size_t BandOutput::arena_bytes(const OutputOptions& output, int width, int height, int render_rows) {
   if (width < 1 || height < 1) return 0;
-  const int rows = band_rows_for(output, height), render = render_rows_for(output, height, render_rows);
+  const int rows = band_rows_for(output, height), render = kRenderBands ? render_rows_for(output, height, render_rows) : rows;
   // Render bands of several bands: one buffer of the render rows (at most the frame's).
   if (render > rows) return arena_worst_case(format_band_bytes(output.format, width, render < height ? render : height), kBandAlign);
   const int buffers = output.buffers < 1 ? 1 : (output.buffers > kMaxBandBuffers ? kMaxBandBuffers : output.buffers);
@@ -53,15 +53,14 @@ Status BandOutput::begin(const OutputOptions& output, int width, int height, Are
   width_ = width;
   height_ = height;
   band_rows_ = band_rows_for(output, height);
-  render_rows_ = render_rows_for(output, height, render_rows);
+  render_rows_ = kRenderBands ? render_rows_for(output, height, render_rows) : band_rows_;
   buffers_ = output.buffers;
   stride_ = format_stride(output.format, width);
   packer_.init(output.format, output.dither);
-  const bool several = render_rows_ > band_rows_;  // one buffer of render rows, lent a band at a time
-  const uint32_t bytes = format_band_bytes(output.format, width, several ? rows_from(0, render_rows_) : band_rows_);
+  const uint32_t bytes = format_band_bytes(output.format, width, several() ? rows_from(0, render_rows_) : band_rows_);
   for (int i = 0; i < buffers_; ++i) {
     sink.flush_ready(i);
-    if (several && i > 0) continue;
+    if (several() && i > 0) continue;
     buffer_[i] = static_cast<uint8_t*>(arena.allocate(bytes, kBandAlign));
     if (!buffer_[i]) return error(StatusCode::ArenaTooSmall, "arena too small for the band buffers");
   }
@@ -86,7 +85,7 @@ Status BandOutput::wait_for(int buffer) {
 Status BandOutput::start_band(int band) {
   band_ = band;
   top_ = band_top(band);
-  if (render_rows_ > band_rows_) {  // the one buffer: every band of it back from the sink
+  if (several()) {  // the one buffer: every band of it back from the sink
     current_ = buffer_[0];
     for (int i = 0; i < buffers_; ++i) {
       const Status s = wait_for(i);
@@ -102,7 +101,7 @@ Status BandOutput::start_band(int band) {
 }
 
 Status BandOutput::finish_band() {
-  if (render_rows_ == band_rows_) return flush(top_, band_height(band_), current_, current_index_);
+  if (!several()) return flush(top_, band_height(band_), current_, current_index_);
   // Each band of the render band in place, lent as the buffers in turn.
   const int end = top_ + band_height(band_);
   for (int y = top_; y < end; y += band_rows_) {

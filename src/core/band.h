@@ -24,6 +24,10 @@ int render_rows_for(const OutputOptions& output, int height, int render_rows);
 // The most rows the options let a renderer render at once (OutputOptions::render_rows, whole bands).
 int render_rows_allowed(const OutputOptions& output, int height);
 
+// Render bands of several bands on 64-bit hosts only: a board's RAM goes to the least arena, and its
+// flash (the m0plus image is within a few hundred bytes of its budget) to other code.
+constexpr bool kRenderBands = sizeof(void*) >= 8;
+
 // Render bands: a renderer with arena to spare may render several bands at once (render_rows, the
 // tiler: its per-band work is then done once for all of them). They are rendered into one buffer of
 // that many rows, and each band of it is lent to the sink in place, top to bottom, as it would be
@@ -42,11 +46,13 @@ class BandOutput {
 
   // The render bands (one sink band each unless begin was given more render rows).
   int band_rows() const { return render_rows_; }
+  // Whether a render band holds several of the sink's bands (one buffer, lent a band at a time).
+  bool several() const { return kRenderBands && render_rows_ > band_rows_; }
   int band_count() const { return (height_ + render_rows_ - 1) / render_rows_; }
   int band_top(int band) const { return band * render_rows_; }
   int band_height(int band) const { return rows_from(band_top(band), render_rows_); }
   // The sink's bands in render band `band`.
-  int sink_bands_in(int band) const { return (band_height(band) + band_rows_ - 1) / band_rows_; }
+  int sink_bands_in(int band) const { return several() ? (band_height(band) + band_rows_ - 1) / band_rows_ : 1; }
 
   // Makes the next buffer current for render band `band` (waiting for the sink to give it back).
   Status start_band(int band);
