@@ -198,11 +198,14 @@ inline SpanWord span_bits(int32_t first, int32_t last) {
   return ((SpanWord(2) << last) - 1) & (~SpanWord(0) << first);
 }
 
+// |v| < limit, one unsigned comparison (limit > 0).
+inline bool within(int64_t v, int64_t limit) { return uint64_t(v) + uint64_t(limit - 1) < uint64_t(2 * limit - 1); }
+
 // Whether RowSpans can step an edge whose values over the samples lie in [lo, hi] and whose steps
 // between samples are a (columns) and b (rows): everything below 2^30.
 inline bool rows_fit(int64_t lo, int64_t hi, int64_t a, int64_t b) {
   constexpr int64_t kLimit = int64_t(1) << 30;
-  return -lo < kLimit && hi < kLimit && abs64(a) < kLimit && abs64(b) < kLimit;
+  return -lo < kLimit && hi < kLimit && within(a, kLimit) && within(b, kLimit);
 }
 
 enum class SmallSetup : uint8_t { Ready, Outside, TooLarge };
@@ -219,7 +222,7 @@ SmallSetup small_edges(const ConvexPoly& poly, int32_t pitch, RowSpans* rows) {
   rows->clear();
   for (int i = 0; i < poly.n; ++i) {
     const EdgeFunction& e = poly.edge[i];
-    if (abs64(e.a) >= kStepLimit || abs64(e.b) >= kStepLimit) return SmallSetup::TooLarge;
+    if (!within(e.a, kStepLimit) || !within(e.b, kStepLimit)) return SmallSetup::TooLarge;
     const int32_t a = int32_t(e.a), b = int32_t(e.b);
     // A linear function's extremes over the box: its value at x0, y0 plus the negative (positive) steps.
     const int64_t k0 = int64_t(a) * x0 + int64_t(b) * y0 + e.c;
