@@ -282,6 +282,7 @@ class BandWriter : public CoverageWriter {
   [[gnu::noinline]] TexturePlanes& make_texture_planes() {  // once a piece, off the per-block paths
     if (const TexturePlanes* kept = plane_cache_->find(triangle_)) {  // made in an earlier band
       texture_planes_ = *kept;
+      ++stats_->texture_planes_reused;
     } else {
       triangle_texture_planes(*scene_, *view_, triangle_, texture_, 1, kSubpixelHalf, kSubpixelHalf,
                               &texture_planes_, whole_view_);
