@@ -92,35 +92,31 @@ namespace {
 // forward of its world vertices).
 void planes_from_view(const View& view, const Vec3i viewed[3], const int32_t uv[3][2], int32_t den, int32_t ox,
                       int32_t oy, uint32_t width, uint32_t height, int error_bits, TexturePlanes* out) {
-  int64_t p[3][3];
   for (int i = 0; i < 3; ++i) {
-    // |world - eye| < 2^25, so view coordinates stay below 2^29 and each cross term below 2^58.
-    p[i][0] = viewed[i].x;
-    p[i][1] = viewed[i].y;
-    p[i][2] = viewed[i].z;
     out->uv[i][0] = uv[i][0];
     out->uv[i][1] = uv[i][1];
   }
+  // c_i = P_j x P_k (i, j, k cyclic), written out: |world - eye| < 2^25, so view coordinates stay
+  // below 2^29 and each cross term below 2^58.
+  const Vec3i &p0 = viewed[0], &p1 = viewed[1], &p2 = viewed[2];
+  const auto cross = [](const Vec3i& q, const Vec3i& r, int64_t* c) {
+    c[0] = int64_t(q.y) * r.z - int64_t(q.z) * r.y;
+    c[1] = int64_t(q.z) * r.x - int64_t(q.x) * r.z;
+    c[2] = int64_t(q.x) * r.y - int64_t(q.y) * r.x;
+    return magnitude(c[0]) | magnitude(c[1]) | magnitude(c[2]);
+  };
   int64_t c[3][3];
-  uint64_t largest = 0;
-  for (int i = 0; i < 3; ++i) {
-    const int64_t* q = p[i == 2 ? 0 : i + 1];
-    const int64_t* r = p[i == 0 ? 2 : i - 1];
-    c[i][0] = q[1] * r[2] - q[2] * r[1];
-    c[i][1] = q[2] * r[0] - q[0] * r[2];
-    c[i][2] = q[0] * r[1] - q[1] * r[0];
-    for (int a = 0; a < 3; ++a) largest |= magnitude(c[i][a]);
-  }
+  const uint64_t largest = cross(p1, p2, c[0]) | cross(p2, p0, c[1]) | cross(p0, p1, c[2]);
   // One shift for all three keeps their ratios; below 2^28 the planes below cannot overflow.
   const int shift = max_of(0, bit_length(largest) - kCrossBits);
-  const int64_t cx = int64_t(view.center_x) * den, cy = int64_t(view.center_y) * den;
+  // d = (256 X + ox - cx, 256 Y + oy - cy, focal), all scaled by den.
+  const int64_t dx = ox - int64_t(view.center_x) * den, dy = oy - int64_t(view.center_y) * den;
   const int64_t fz = view.focal_q8 * den;  // < 2^30
   for (int i = 0; i < 3; ++i) {
     const int64_t x = c[i][0] >> shift, y = c[i][1] >> shift, z = c[i][2] >> shift;
-    // d = (256 X + ox - cx, 256 Y + oy - cy, focal), all scaled by den.
     out->a[i] = x * kSubpixelOne;
     out->b[i] = y * kSubpixelOne;
-    out->k[i] = x * (ox - cx) + y * (oy - cy) + z * fz;
+    out->k[i] = x * dx + y * dy + z * fz;
   }
   out->size_bits[0] = log2_of(max_of(width, 1u));
   out->size_bits[1] = log2_of(max_of(height, 1u));
@@ -154,61 +150,76 @@ void use_segment_rows(TexturePlanes* p, TextureSegment* rows, int count_bits) {
   for (uint32_t i = 0; i <= p->row_mask; ++i) rows[i].y = -1;
 }
 
+namespace {
+
+// floor(n / d) for d > 0. On 64-bit hosts one signed division gives the truncated quotient and its
+// remainder, and a negative remainder steps the quotient down: the same floor as div_floor without
+// its branch on n's sign (boards: div_floor, whose 32-bit divisor takes udiv_64_32).
+inline int64_t floor_quotient(int64_t n, int64_t d) {
+#if UINTPTR_MAX == 0xFFFFFFFFu
+  return div_floor(n, d);
+#else
+  const int64_t q = n / d, r = n % d;
+  return q - (r < 0 ? 1 : 0);
+#endif
+}
+
+// A triangle's texture coordinates as the division takes them: vertex 0's, and the other two's
+// differences from it (|d| < 2^32).
+struct UvFromVertex0 {
+  int64_t u0, v0, du1, du2, dv1, dv2;
+  explicit UvFromVertex0(const TexturePlanes& p)
+      : u0(p.uv[0][0]), v0(p.uv[0][1]), du1(int64_t(p.uv[1][0]) - u0), du2(int64_t(p.uv[2][0]) - u0),
+        dv1(int64_t(p.uv[1][1]) - v0), dv2(int64_t(p.uv[2][1]) - v0) {}
+};
+
+// The coordinates of one sample from its plane values e_i (exact_texture_uv's division, shared by
+// exact_texture_row): sum uv_i e_i / sum e_i with each e_i shifted to kWeightKeep bits first (their
+// common shift: the divisor stays below 2^30), floored, clamped to int32. The sums are taken from
+// vertex 0: floor(sum uv_i w_i / W) = uv_0 + floor((d_1 w_1 + d_2 w_2) / W) for W = sum w_i and
+// d_i = uv_i - uv_0 (|d_i w_i| < 2^60): two products a coordinate instead of three. Returns false when
+// a quotient left int32 or the shifted sum is 0 (the ray grazes the triangle's plane: any vertex will
+// do, vertex 0's coordinates).
+__attribute__((always_inline)) inline bool divide_sample(const UvFromVertex0& t, int64_t e0, int64_t e1, int64_t e2,
+                                                         int32_t uv[2]) {
+  const int shift = max_of(0, bit_length(magnitude(e0) | magnitude(e1) | magnitude(e2)) - kWeightKeep);
+  const int64_t w1 = e1 >> shift, w2 = e2 >> shift;
+  int64_t total = (e0 >> shift) + w1 + w2;
+  int64_t nu = t.du1 * w1 + t.du2 * w2, nv = t.dv1 * w1 + t.dv2 * w2;
+  if (total < 0) total = -total, nu = -nu, nv = -nv;  // (-n) / (-W): the same quotient
+  if (total == 0) {
+    uv[0] = int32_t(t.u0);
+    uv[1] = int32_t(t.v0);
+    return false;
+  }
+  const int64_t qu = t.u0 + floor_quotient(nu, total), qv = t.v0 + floor_quotient(nv, total);
+  // Both within int32 (the usual case, one test): q + 2^31 below 2^32 as unsigned.
+  if (((uint64_t(qu) + 0x80000000u) | (uint64_t(qv) + 0x80000000u)) >> 32 == 0) {
+    uv[0] = int32_t(qu);
+    uv[1] = int32_t(qv);
+    return true;
+  }
+  uv[0] = int32_t(clamp_to<int64_t>(qu, INT32_MIN, INT32_MAX));
+  uv[1] = int32_t(clamp_to<int64_t>(qv, INT32_MIN, INT32_MAX));
+  return false;
+}
+
+}  // namespace
+
 void exact_texture_uv(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out) {
-  int64_t e[3];
-  uint64_t largest = 0;
-  out->denom = 0;
-  for (int i = 0; i < 3; ++i) {
-    e[i] = p.a[i] * x + p.b[i] * y + p.k[i];
-    out->denom += e[i];  // |e_i| < 2^61: the sum fits
-    largest |= magnitude(e[i]);
-  }
-  const int shift = max_of(0, bit_length(largest) - kWeightKeep);
-  int64_t total = 0;
-  for (int i = 0; i < 3; ++i) {
-    e[i] >>= shift;
-    total += e[i];
-  }
-  if (total < 0) {
-    total = -total;
-    for (int i = 0; i < 3; ++i) e[i] = -e[i];
-  }
-  if (total == 0) {  // the ray grazes the triangle's plane: any vertex will do
-    out->uv[0] = p.uv[0][0];
-    out->uv[1] = p.uv[0][1];
-    out->clean = false;
-    return;
-  }
-  out->clean = out->denom != 0;
-  for (int k = 0; k < 2; ++k) {
-    // |uv| < 2^31 and |e| < 2^28: the sum stays below 2^61; total < 2^30 divides in 32 bits.
-    const int64_t sum = p.uv[0][k] * e[0] + p.uv[1][k] * e[1] + p.uv[2][k] * e[2];
-    const int64_t q = div_floor(sum, total);
-    if (q < INT32_MIN || q > INT32_MAX) out->clean = false;
-    out->uv[k] = int32_t(clamp_to<int64_t>(q, INT32_MIN, INT32_MAX));
-  }
+  const int64_t e0 = p.a[0] * x + p.b[0] * y + p.k[0], e1 = p.a[1] * x + p.b[1] * y + p.k[1];
+  const int64_t e2 = p.a[2] * x + p.b[2] * y + p.k[2];
+  out->denom = e0 + e1 + e2;  // |e_i| < 2^61: the sum fits
+  out->clean = divide_sample(UvFromVertex0(p), e0, e1, e2, out->uv) && out->denom != 0;
 }
 
 void exact_texture_row(const TexturePlanes& p, int32_t x, int32_t y, int32_t n, int32_t (*uv)[2]) {
-  // exact_texture_uv's steps, the planes stepped along the row in locals (no denominator or flags kept).
+  // exact_texture_uv's coordinates, the planes stepped along the row (no denominator or flags kept).
   int64_t e0 = p.a[0] * x + p.b[0] * y + p.k[0], e1 = p.a[1] * x + p.b[1] * y + p.k[1];
   int64_t e2 = p.a[2] * x + p.b[2] * y + p.k[2];
   const int64_t a0 = p.a[0], a1 = p.a[1], a2 = p.a[2];
-  const int64_t u0 = p.uv[0][0], u1 = p.uv[1][0], u2 = p.uv[2][0];
-  const int64_t v0 = p.uv[0][1], v1 = p.uv[1][1], v2 = p.uv[2][1];
-  for (int32_t j = 0; j < n; ++j, e0 += a0, e1 += a1, e2 += a2) {
-    const int shift = max_of(0, bit_length(magnitude(e0) | magnitude(e1) | magnitude(e2)) - kWeightKeep);
-    int64_t w0 = e0 >> shift, w1 = e1 >> shift, w2 = e2 >> shift;
-    int64_t total = w0 + w1 + w2;
-    if (total < 0) total = -total, w0 = -w0, w1 = -w1, w2 = -w2;
-    if (total == 0) {
-      uv[j][0] = p.uv[0][0];
-      uv[j][1] = p.uv[0][1];
-      continue;
-    }
-    uv[j][0] = int32_t(clamp_to<int64_t>(div_floor(u0 * w0 + u1 * w1 + u2 * w2, total), INT32_MIN, INT32_MAX));
-    uv[j][1] = int32_t(clamp_to<int64_t>(div_floor(v0 * w0 + v1 * w1 + v2 * w2, total), INT32_MIN, INT32_MAX));
-  }
+  const UvFromVertex0 t(p);
+  for (int32_t j = 0; j < n; ++j, e0 += a0, e1 += a1, e2 += a2) divide_sample(t, e0, e1, e2, uv[j]);
 }
 
 const TexturePiece& texture_piece(TexturePlanes& p, int32_t x, int32_t y) {

@@ -135,6 +135,98 @@ TEST(TextureMapping, WholeSegmentTestImpliesTheBound) {
   EXPECT_GT(cut_near, 10000);  // just under the threshold the bound does cut segments: the test is tight
 }
 
+// exact_texture_uv's coordinates as mapping.h states them, written plainly: the e_i shifted by one
+// common shift to 28 bits, sum uv_i e_i / sum e_i floored (div_floor, the divisor made positive),
+// clamped to int32; vertex 0's coordinates when the shifted sum is 0. clean: as ExactUv's.
+void reference_uv(const ml::TexturePlanes& p, int32_t x, int32_t y, int32_t out[2], bool* clean) {
+  int64_t e[3], denom = 0;
+  uint64_t largest = 0;
+  for (int i = 0; i < 3; ++i) {
+    e[i] = p.a[i] * x + p.b[i] * y + p.k[i];
+    denom += e[i];
+    largest |= ml::magnitude(e[i]);
+  }
+  const int shift = std::max(0, ml::bit_length(largest) - 28);
+  int64_t total = 0;
+  for (int64_t& w : e) total += (w >>= shift);
+  if (total == 0) {
+    out[0] = p.uv[0][0];
+    out[1] = p.uv[0][1];
+    *clean = false;
+    return;
+  }
+  const int64_t sign = total < 0 ? -1 : 1;
+  *clean = denom != 0;
+  for (int k = 0; k < 2; ++k) {
+    int64_t sum = 0;
+    for (int i = 0; i < 3; ++i) sum += int64_t(p.uv[i][k]) * (sign * e[i]);
+    const int64_t q = ml::div_floor(sum, sign * total);
+    if (q < INT32_MIN || q > INT32_MAX) *clean = false;
+    out[k] = int32_t(std::clamp<int64_t>(q, INT32_MIN, INT32_MAX));
+  }
+}
+
+// The per-sample division (exact_texture_uv, and exact_texture_row stepping the planes) gives the
+// floored quotient of both coordinates, over random planes of every magnitude up to the 2^61 the
+// lattice allows and their edge cases: plane values at powers of two (the shift's steps), sums of
+// either sign and zero, quotients past int32 (clamped), coordinates at int32's ends.
+TEST(TextureMapping, ExactDivisionIsTheFlooredQuotient) {
+  std::mt19937_64 rng(20261201);
+  const auto any = [&](int bits) {  // uniform in (-2^bits, 2^bits)
+    const int64_t m = int64_t(rng() >> (64 - bits - 1)) - (int64_t(1) << bits);
+    return bits == 0 ? 0 : m;
+  };
+  const int32_t extremes[] = {INT32_MIN, INT32_MIN + 1, -1, 0, 1, INT32_MAX - 1, INT32_MAX};
+  size_t samples = 0, clamped = 0, grazing = 0, negative = 0;
+  for (int n = 0; n < 200000; ++n) {
+    ml::TexturePlanes p{};
+    const int kind = n % 4;
+    for (int i = 0; i < 3; ++i) {
+      if (kind == 0) {  // a power of two, or one below it, in k alone: every shift step
+        const int64_t v = (int64_t(1) << (rng() % 60)) - int64_t(rng() % 2);
+        p.a[i] = p.b[i] = 0;
+        p.k[i] = rng() % 2 ? v : -v;
+      } else {
+        p.a[i] = any(int(rng() % 46));
+        p.b[i] = any(int(rng() % 46));
+        p.k[i] = any(int(rng() % 60));
+      }
+      for (int k = 0; k < 2; ++k)
+        p.uv[i][k] = rng() % 4 == 0 ? extremes[rng() % 7] : int32_t(uint32_t(rng()) >> (rng() % 32));
+    }
+    if (kind == 3) p.k[2] = -(p.k[0] + p.k[1]) + any(int(rng() % 8));  // sums near zero: huge quotients
+    if (kind == 2) {                                                     // in range of one another
+      p.a[2] = -(p.a[0] + p.a[1]);
+      p.b[2] = -(p.b[0] + p.b[1]);
+    }
+    const int32_t x = int32_t(rng() % 2048), y = int32_t(rng() % 2048), len = 1 + int32_t(rng() % 16);
+    int32_t row[16][2];
+    ml::exact_texture_row(p, x, y, len, row);
+    for (int32_t j = 0; j < len; ++j) {
+      int32_t want[2];
+      bool clean;
+      reference_uv(p, x + j, y, want, &clean);
+      ml::ExactUv got;
+      ml::exact_texture_uv(p, x + j, y, &got);
+      ASSERT_EQ(got.uv[0], want[0]) << "case " << n << " sample " << j;
+      ASSERT_EQ(got.uv[1], want[1]) << "case " << n << " sample " << j;
+      ASSERT_EQ(got.clean, clean) << "case " << n << " sample " << j;
+      ASSERT_EQ(row[j][0], want[0]) << "case " << n << " sample " << j;
+      ASSERT_EQ(row[j][1], want[1]) << "case " << n << " sample " << j;
+      const int64_t denom = p.a[0] * (x + j) + p.b[0] * y + p.k[0] + p.a[1] * (x + j) + p.b[1] * y + p.k[1] +
+                            p.a[2] * (x + j) + p.b[2] * y + p.k[2];
+      clamped += !clean && denom != 0;
+      grazing += want[0] == p.uv[0][0] && want[1] == p.uv[0][1] && !clean;
+      negative += denom < 0;
+      ++samples;
+    }
+  }
+  EXPECT_GT(samples, 1000000u);
+  EXPECT_GT(clamped, 10000u);
+  EXPECT_GT(grazing, 100u);
+  EXPECT_GT(negative, samples / 4);
+}
+
 // Small triangles (TexturePlanes::exact) take the exact coordinates at every sample, and the row
 // function steps the planes to the same values as dividing each sample on its own.
 TEST(TextureMapping, SmallTrianglesAreExactAtEverySample) {
@@ -195,16 +287,33 @@ ml::TexturePlanes planes_for(const Case& c, const ml::TextureTexels& t) {
   return planes;
 }
 
+// One random case of the sampler tests: a triangle, a random texture of format formats[n % 3] at its
+// size, a colour (white one case in four) and the planes of the triangle, small (every sample exact)
+// when `small`.
+struct SamplerCase {
+  Case c;
+  RandomTexture tex;
+  ml::Pixel colour;
+  ml::TexturePlanes planes;
+};
+SamplerCase sampler_case(std::mt19937& rng, int n, bool small) {
+  const ml::TexelFormat formats[] = {ml::TexelFormat::Rgb565, ml::TexelFormat::Palette8, ml::TexelFormat::Grey4};
+  const Case c = random_case(rng);
+  RandomTexture tex(rng, formats[n % 3], c.width, c.height);
+  const ml::Pixel colour = n % 4 == 0 ? 0xFFFFFF : ml::Pixel(rng() & 0xFFFFFF);
+  ml::TexturePlanes planes = planes_for(c, tex.t);
+  planes.exact = small;
+  return SamplerCase{c, std::move(tex), colour, planes};
+}
+
 TEST(TextureMapping, RowsGiveTheColoursSampleBySample) {
   std::mt19937 rng(7);
-  const ml::TexelFormat formats[] = {ml::TexelFormat::Rgb565, ml::TexelFormat::Palette8, ml::TexelFormat::Grey4};
   size_t compared = 0;
   for (int n = 0; n < 120; ++n) {
-    const Case c = random_case(rng);
-    const RandomTexture tex(rng, formats[n % 3], c.width, c.height);
-    const ml::Pixel colour = n % 4 == 0 ? 0xFFFFFF : ml::Pixel(rng() & 0xFFFFFF);
-    ml::TexturePlanes rows = planes_for(c, tex.t);
-    rows.exact = n % 5 == 1;  // a small triangle's rows: every sample exact
+    const SamplerCase sc = sampler_case(rng, n, n % 5 == 1);  // some small triangles' rows: every sample exact
+    const RandomTexture& tex = sc.tex;
+    const ml::Pixel colour = sc.colour;
+    ml::TexturePlanes rows = sc.planes;
     ml::TexturePlanes one = rows;
     std::vector<ml::Pixel> tinted(ml::kTexelLutEntries), white(ml::kTexelLutEntries);
     ml::make_texel_lut(tex.t, tex.bytes.data(), colour, tinted.data());
@@ -241,14 +350,12 @@ TEST(TextureMapping, RowsGiveTheColoursSampleBySample) {
 // filter and wrap, the table of the colour or the white one).
 TEST(TextureMapping, RunsOfABlockGiveTheColoursSampleBySample) {
   std::mt19937 rng(17);
-  const ml::TexelFormat formats[] = {ml::TexelFormat::Rgb565, ml::TexelFormat::Palette8, ml::TexelFormat::Grey4};
   size_t compared = 0;
   for (int n = 0; n < 90; ++n) {
-    const Case c = random_case(rng);
-    const RandomTexture tex(rng, formats[n % 3], c.width, c.height);
-    const ml::Pixel colour = n % 4 == 0 ? 0xFFFFFF : ml::Pixel(rng() & 0xFFFFFF);
-    ml::TexturePlanes planes = planes_for(c, tex.t);
-    planes.exact = n % 3 != 2;
+    const SamplerCase sc = sampler_case(rng, n, n % 3 != 2);
+    const RandomTexture& tex = sc.tex;
+    const ml::Pixel colour = sc.colour;
+    ml::TexturePlanes planes = sc.planes;
     const ml::TexturePlanes one = planes;
     const ml::Pixel lut_colour = n % 2 ? 0xFFFFFF : colour;
     std::vector<ml::Pixel> lut(ml::kTexelLutEntries);

@@ -11,6 +11,7 @@
 
 #include "platform/host/file_texture_source.h"
 #include "platform/host/png_io.h"
+#include "scanline/internal.h"
 #include "tests/scene/scene_test_util.h"
 #include "tests/texture/texture_test_util.h"
 #include "texture/sampler.h"
@@ -361,6 +362,54 @@ TEST(TextureRender, TilerAndScanlineImagesAreIdentical) {
       }
     }
   }
+}
+
+// Both renderers decide alike which triangles are small (TexturePlanes::exact: every sample divided
+// out, texture/mapping.h), from their own view of the triangle: the scanline renderer's view_triangle
+// and 1x1 sample lattice, the tiler's vertices transformed one by one (its vertex cache's
+// view_vertex) at pixel centres. Every textured triangle of every textured scene, at sizes where
+// they are small, large and at the limit between.
+TEST(TextureRender, RenderersDecideAlikeWhichTrianglesAreSmall) {
+  size_t small = 0, large = 0;
+  for (const std::string& path : textest::textured_scenes()) {
+    const mlhost::LoadedScene& s = load(path);
+    ASSERT_NE(s.scene.info, nullptr) << s.name;
+    for (int frame = 0; frame < 12; ++frame) {
+      const int width = 16 << (frame % 4);  // 16x12 .. 128x96
+      const ml::Camera cam = textest::camera_for(s, width, width * 3 / 4, frame < 4 ? 0.0 : frame < 8 ? 25.0 : -40.0);
+      ml::View view;
+      ASSERT_TRUE(ml::make_view(cam, &view).ok());
+      const ml::scan::Lattice lat = ml::scan::make_lattice(cam.width, cam.height, 1);
+      for (uint32_t id = 0; id < s.scene.triangle_count; ++id) {
+        const uint32_t texture = ml::triangle_texture(s.scene, id);
+        if (texture == ml::kNone) continue;
+        ml::Vec3i world[3];
+        ml::triangle_world(s.scene, id, world);
+        ml::ViewTriangle scanline_view, tiler_view;
+        ml::view_triangle(view, world, &scanline_view);
+        tiler_view.unclipped = true;
+        for (int i = 0; i < 3; ++i) {
+          ml::ViewVertex v;
+          ml::view_vertex(view, world[i], &v);
+          if (!ml::put_view_vertex(v, i, &tiler_view)) tiler_view.unclipped = false;
+        }
+        ml::TexturePlanes scanline_planes, tiler_planes;
+        ml::triangle_texture_planes(s.scene, view, id, texture, lat.den, lat.ox, lat.oy, &scanline_planes,
+                                    &scanline_view);
+        ml::triangle_texture_planes(s.scene, view, id, texture, 1, ml::kSubpixelHalf, ml::kSubpixelHalf, &tiler_planes,
+                                    &tiler_view);
+        ASSERT_EQ(scanline_planes.exact, tiler_planes.exact) << path << " frame " << frame << " triangle " << id;
+        for (int i = 0; i < 3; ++i) {
+          ASSERT_EQ(scanline_planes.a[i], tiler_planes.a[i]) << path << " frame " << frame << " triangle " << id;
+          ASSERT_EQ(scanline_planes.b[i], tiler_planes.b[i]) << path << " frame " << frame << " triangle " << id;
+          ASSERT_EQ(scanline_planes.k[i], tiler_planes.k[i]) << path << " frame " << frame << " triangle " << id;
+        }
+        (scanline_planes.exact ? small : large) += 1;
+      }
+    }
+  }
+  EXPECT_GT(small, 20u);
+  EXPECT_GT(large, 20u);
 }
 
 // The tiler's texture planes kept from band to band (arena bytes to spare, render_spare_bytes) give
