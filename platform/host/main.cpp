@@ -103,8 +103,9 @@ const char* const kRenderHelp =
     "  --work OUT.png              Greene's work image: pyramid cells visited per pixel, log-scale\n"
     "                              heatmap (tiler only)\n"
     "  --stats                     print one JSON object of frame statistics on stdout\n"
-    "  --arena BYTES               use an arena of this size instead of the need plus the tiler's band\n"
-    "                              plan (the same image either way)\n"
+    "  --arena BYTES               use an arena of this size instead of the need plus the tiler's spare\n"
+    "                              bytes: bands rendered at once, band plan, vertex cache (the same\n"
+    "                              image either way)\n"
     "  --texture-pool BYTES|all    texture pool in the arena (default all: every texture fits; smaller\n"
     "                              pools evict and reload, below the largest texture some fall back)\n"
     "  --texture-source blob|file  texels from the scene in memory (default) or read from the .mls file\n"
@@ -116,6 +117,9 @@ const char* const kRenderHelp =
     "  --dither on|off             4x4 ordered dither (default: on for grey and mono, off otherwise)\n"
     "  --band-rows N               rows per band buffer, 0 = the whole frame (default 16)\n"
     "  --buffers 1|2               band buffers (2 lets a display send one band while the next renders)\n"
+    "  --render-rows N             tiler: rows it may render at once when the arena has room, each band\n"
+    "                              still sent on its own (default 0: the whole frame with one buffer,\n"
+    "                              a band at a time with two)\n"
     "\n"
     "Bands stream into the PNG as they leave the renderer: no frame buffer is held.\n";
 
@@ -140,7 +144,8 @@ const char* const kShowHelp =
     "  --stats                       one JSON line of statistics per frame (display_bytes and\n"
     "                                display_windows count what went to the display)\n"
     "The render options are those of maskline render (--renderer, --size, --aa, --shading, --eye,\n"
-    "--target, --up, --fov, --near, --background, --seed, --dither, --band-rows, --buffers, --arena,\n"
+    "--target, --up, --fov, --near, --background, --seed, --dither, --band-rows, --buffers, --render-rows,\n"
+    "--arena, "
     "--texture-pool, --texture-source);\n"
     "--format, when given, must be the display's.\n";
 
@@ -467,7 +472,7 @@ int cmd_info(int argc, char** argv) {
 const std::vector<std::string> kRenderValued = {"--renderer", "--size", "--aa", "--eye", "--target", "--up",
                                                 "--fov", "--near", "--shading", "--seed", "--background",
                                                 "--arena", "--format", "--dither", "--band-rows", "--buffers",
-                                                "--texture-pool", "--texture-source", "--filter",
+                                                "--render-rows", "--texture-pool", "--texture-source", "--filter",
                                                 "--samples"};
 
 struct RenderArgs {
@@ -523,6 +528,7 @@ bool parse_render_option(const std::string& n, const std::string& v, RenderArgs*
     r->has_dither = true;
   } else if (n == "--band-rows") opt.output.band_rows = int(parse_integer(n, v, 0, ml::kMaxScreenDim));
   else if (n == "--buffers") opt.output.buffers = int(parse_integer(n, v, 1, ml::kMaxBandBuffers));
+  else if (n == "--render-rows") opt.output.render_rows = int(parse_integer(n, v, 0, ml::kMaxScreenDim));
   else if (n == "--texture-pool") {
     opt.texture_pool_bytes = v == "all" ? ml::kTexturePoolAll : uint32_t(parse_integer(n, v, 0, 0xFFFFFFFEll));
   } else if (n == "--texture-source") {
@@ -548,7 +554,8 @@ void finish_render_args(RenderArgs* r) {
 }
 
 // The arena the CLI gives a render unless told otherwise (--arena): what it needs plus the spare bytes
-// that make it faster (render_spare_bytes: the tiler's band plan), as a board with RAM to spare does.
+// that make it faster (render_spare_bytes: the tiler's bands rendered at once, its band plan and vertex
+// cache), as a board with RAM to spare does.
 // The image is the same with or without them.
 size_t default_arena_bytes(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o) {
   return ml::render_arena_bytes(scene, camera, o) + ml::render_spare_bytes(scene, camera, o);

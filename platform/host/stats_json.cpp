@@ -40,7 +40,8 @@ std::string stats_json(const ml::Stats& s, const RunInfo& run) {
     << ",\"width\":" << s.width << ",\"height\":" << s.height << ",\"samples_per_pixel\":" << s.samples_per_pixel
     << ",\"triangles_in\":" << s.triangles_in << ",\"triangles_culled\":" << s.triangles_culled
     << ",\"triangles_drawn\":" << s.triangles_drawn << ",\"pixel_writes\":" << s.pixel_writes
-    << ",\"sink_calls\":" << s.sink_calls << ",\"bands\":" << s.bands << ",\"band_rows\":" << run.band_rows
+    << ",\"sink_calls\":" << s.sink_calls << ",\"bands\":" << s.bands << ",\"render_bands\":" << s.render_bands
+    << ",\"band_rows\":" << run.band_rows
     << ",\"format\":" << quoted(run.format) << ",\"display\":" << quoted(run.display)
     << ",\"display_bytes\":" << s.display_bytes << ",\"display_windows\":" << s.display_windows
     << ",\"display_bytes_per_pixel\":" << number(pixels > 0 ? double(s.display_bytes) / pixels : 0.0)

@@ -47,6 +47,11 @@ struct OutputOptions {
   bool dither = false;                         // 4x4 ordered dither (RGB565, grey, mono)
   int band_rows = 16;                          // rows a band buffer holds; 0 = the whole frame
   int buffers = 1;                             // 1, or 2 so sending one band overlaps the next
+  // Rows the tiler may render at once when the arena has room beyond its least (core/band.h's render
+  // bands: each band still leaves on its own, but only once all of them are rendered, so a display
+  // sends none of them while they render). 0 = the whole frame with one buffer, one band at a time
+  // with two (so that sending one band overlaps the next); band_rows or fewer = one band at a time.
+  int render_rows = 0;
 };
 
 struct RenderOptions {

@@ -10,14 +10,16 @@ struct Stats {
   uint32_t width = 0, height = 0;
   uint32_t samples_per_pixel = 1;      // aa * aa
   // The tiler draws BSP pieces (a split triangle is several) band by band, so for it culled and drawn
-  // count (piece, band) pairs and add up to bsp_pieces * bands (with one band: pieces); the scanline
-  // renderer counts triangles.
+  // count (piece, render band) pairs and add up to bsp_pieces * render_bands (with one band: pieces);
+  // the scanline renderer counts triangles.
   uint32_t triangles_in = 0;           // triangles in the scene
   uint32_t triangles_culled = 0;       // back-facing, behind the eye, off screen, degenerate, or hidden
   uint32_t triangles_drawn = 0;        // triangles (pieces) that wrote at least one pixel
   uint64_t pixel_writes = 0;           // pixels packed into band buffers (a block of n pixels counts n)
   uint64_t sink_calls = 0;             // flush() calls: one per band
   uint32_t bands = 0;                  // bands rendered (each flushed once)
+  uint32_t render_bands = 0;           // the tiler's walks: bands rendered at once (BandOutput's
+                                       // render bands; fewer than `bands` when the arena had room)
   uint64_t display_bytes = 0;          // bytes on the bus or into the framebuffer, commands included
   uint32_t display_windows = 0;        // address-window commands sent to the display
   uint64_t shading_calls = 0;          // colour evaluations

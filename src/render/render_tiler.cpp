@@ -27,8 +27,13 @@ size_t render_tiler_arena_bytes(const Scene& scene, const Camera& camera, const 
 }
 
 size_t render_tiler_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
-  const int rows = band_rows_for(effective_options(options).output, camera.height);
-  return tiler_plan_bytes(scene, rows < camera.height ? (camera.height + rows - 1) / rows : 1) + tiler_cache_bytes(scene);
+  // The most rows at once the options allow where the tiler renders several bands at once, and the plan
+  // of the bands that leaves.
+  const RenderOptions o = effective_options(options);
+  const int most = tiler_renders_bands_at_once(scene, o) ? render_rows_allowed(o.output, camera.height) : 0;
+  const size_t at_once = tiler_render_rows_bytes(camera, o, most);
+  const int rows = render_rows_for(o.output, camera.height, most);
+  return at_once + tiler_plan_bytes(scene, (camera.height + rows - 1) / rows) + tiler_cache_bytes(scene);
 }
 
 Status render_tiler(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,

@@ -1207,6 +1207,7 @@ struct Renderer {
     stats->pixel_writes += uint32_t(s.width);
     if (py + 1 < out.band_top(band) + out.band_height(band)) return ok_status();
     ++stats->bands;
+    ++stats->render_bands;
     return out.finish_band();
   }
 };

@@ -9,6 +9,7 @@
 
 #include "core/band.h"
 #include "render/render.h"
+#include "tiler/tiler.h"
 #include "tests/tiler/tiler_test_util.h"
 
 namespace {
@@ -62,14 +63,19 @@ TEST(BandOutput, AsyncDisplayNeverSeesItsBufferChangeAndGetsTwoInFlight) {
   tiler_test::TestScene ts;
   ts.build(tiler_test::random_scene(rng, 80, 120));
   const ml::Camera cam = tiler_test::test_camera(96, 70);
-  for (ml::RendererKind kind : {ml::RendererKind::Tiler, ml::RendererKind::Scanline}) {
+  // The tiler also renders 16 rows (two bands) at once and the whole frame at once, each band lent in
+  // place from the one buffer (core/band.h's render bands).
+  for (auto [kind, at_once] : {std::pair<ml::RendererKind, int>{ml::RendererKind::Tiler, 0}, {ml::RendererKind::Tiler, 16},
+                               {ml::RendererKind::Tiler, 72}, {ml::RendererKind::Scanline, 0}}) {
     for (int buffers : {1, 2}) {
       ml::RenderOptions o;
       o.renderer = kind;
       o.shading = ml::ShadingMode::Ids;
       o.output.band_rows = 8;
       o.output.buffers = buffers;
-      std::vector<uint8_t> mem(ml::render_arena_bytes(ts.scene, cam, o), mlhost::kPoisonByte);
+      o.output.render_rows = at_once;
+      const size_t more = at_once ? ml::tiler_render_rows_bytes(cam, o, at_once) : 0;
+      std::vector<uint8_t> mem(ml::render_arena_bytes(ts.scene, cam, o) + more, mlhost::kPoisonByte);
       ml::Arena arena(mem.data(), mem.size());
       AsyncSink sink{size_t(buffers)};
       ml::Stats stats;
@@ -79,6 +85,9 @@ TEST(BandOutput, AsyncDisplayNeverSeesItsBufferChangeAndGetsTwoInFlight) {
       EXPECT_FALSE(sink.changed_while_lent);
       EXPECT_FALSE(sink.ended_with_lent);
       EXPECT_EQ(stats.bands, 9u);
+      if (ml::tiler_renders_bands_at_once(ts.scene, o)) {
+        EXPECT_EQ(stats.render_bands, at_once == 16 ? 5u : at_once ? 1u : 9u);
+      }
       EXPECT_EQ(sink.buffers_used, buffers == 2 ? 3u : 1u);
       EXPECT_EQ(sink.max_in_flight, size_t(buffers));
       EXPECT_GT(sink.waits, 0);

@@ -14,7 +14,9 @@
 #include "scanline/internal.h"
 #include "tests/scene/scene_test_util.h"
 #include "tests/texture/texture_test_util.h"
+#include "texture/pager.h"
 #include "texture/sampler.h"
+#include "tiler/tiler.h"
 #include "tools/scenec/scenec.h"
 
 namespace {
@@ -440,6 +442,32 @@ TEST(TextureRender, TilerPlanesKeptAcrossBandsGiveTheSameFrame) {
       }
     }
     EXPECT_GT(reused, 0u) << path << ": the kept texture planes were never used";
+  }
+}
+
+// A frame with paged textures renders a band at a time however large the arena (the pager frees each
+// texture after the last band that uses it), so its resident peak stays the least arena's; the same
+// scene as ids (no texels drawn) renders its bands at once where the target does.
+TEST(TextureRender, TilerRendersPagedFramesABandAtATime) {
+  const mlhost::LoadedScene& s = load("builtin:banded");
+  const ml::Camera cam = textest::camera_for(s, 160, 120);
+  for (ml::ShadingMode mode : {ml::ShadingMode::Flat, ml::ShadingMode::Ids}) {
+    ml::RenderOptions o = textest::options(ml::RendererKind::Tiler, mode);
+    o.output.band_rows = 8;
+    const size_t least = ml::render_arena_bytes(s.scene, cam, o);
+    const Frame plain = textest::render(s.scene, cam, o, least);
+    const Frame roomy = textest::render(s.scene, cam, o, least + ml::render_spare_bytes(s.scene, cam, o) + (1u << 20));
+    ASSERT_TRUE(plain.status.ok() && roomy.status.ok()) << plain.status.message << " / " << roomy.status.message;
+    EXPECT_EQ(roomy.pixels, plain.pixels) << int(mode);
+    EXPECT_EQ(plain.stats.render_bands, 15u);
+    const bool at_once = mode == ml::ShadingMode::Ids && ml::tiler_renders_bands_at_once(s.scene, o);
+    EXPECT_EQ(roomy.stats.render_bands, at_once ? 1u : 15u) << int(mode);
+    EXPECT_EQ(roomy.stats.texture_bytes_peak, plain.stats.texture_bytes_peak);
+    if (mode == ml::ShadingMode::Flat) {
+      EXPECT_FALSE(ml::tiler_renders_bands_at_once(s.scene, o));
+      EXPECT_GT(plain.stats.texture_bytes_peak, 0u);
+      EXPECT_LT(plain.stats.texture_bytes_peak, ml::texture_pool_needs(s.scene).desired);
+    }
   }
 }
 

@@ -399,7 +399,7 @@ TEST(TilerRender, RandomScenesWriteEveryPixelOnceAndMatchBruteForce) {
       EXPECT_EQ(f.stats.sink_calls, uint64_t(f.sink.calls));
       EXPECT_GT(f.stats.cells_visited, 0u);
       EXPECT_GT(f.stats.triangles_drawn, 10u);
-      EXPECT_EQ(f.stats.triangles_drawn + f.stats.triangles_culled, uint64_t(f.stats.bsp_pieces) * f.stats.bands);
+      EXPECT_EQ(f.stats.triangles_drawn + f.stats.triangles_culled, uint64_t(f.stats.bsp_pieces) * f.stats.render_bands);
       if (mode == ml::ShadingMode::Ids) {
         const auto expect = brute_ids(ts, cam);
         for (size_t p = 0; p < expect.size(); ++p) ASSERT_EQ(f.sink.image[p], expect[p]) << "pixel " << p;
@@ -438,10 +438,10 @@ TEST(TilerRender, BandSplitGivesTheSameImageAsOneBand) {
   }
 }
 
-// The band plan and the subtrees' kept screen rectangles (arena bytes to spare, render_spare_bytes) change
-// nothing but the work: the same image and the same counts as the least arena (but tiled parts), at 16 bands or
-// fewer (exact plan) and at more (bands grouped, each still tested), and in one band (the triangles' facing bits
-// alone), with their bytes showing in the peak.
+// The band plan and the subtrees' kept screen rectangles (arena bytes to spare, render_spare_bytes, one band
+// rendered at a time) change nothing but the work: the same image and the same counts as the least arena (but
+// tiled parts), at 16 bands or fewer (exact plan) and at more (bands grouped, each still tested), and in one
+// band (the triangles' facing bits alone), with their bytes showing in the peak.
 TEST(TilerRender, BandPlanGivesTheSameFrameAsTheLeastArena) {
   std::mt19937 rng(91);
   tiler_test::TestScene ts;
@@ -451,6 +451,7 @@ TEST(TilerRender, BandPlanGivesTheSameFrameAsTheLeastArena) {
     for (int rows : {1, 5, 9, 16, 130, 131}) {
       ml::OutputOptions out;
       out.band_rows = rows;
+      out.render_rows = rows;
       ml::RenderOptions opt;
       opt.shading = mode;
       opt.output = out;
@@ -511,6 +512,7 @@ TEST(TilerRender, BandPlanSharesFacingAmongSplitPieces) {
       cam.near = std::max(1, s.info->sphere_radius / 1024);
       ml::OutputOptions out;
       out.band_rows = rows;
+      out.render_rows = rows;
       ml::RenderOptions opt;
       opt.shading = mode;
       opt.output = out;
@@ -523,6 +525,84 @@ TEST(TilerRender, BandPlanSharesFacingAmongSplitPieces) {
       EXPECT_EQ(planned.stats.triangles_drawn, least.stats.triangles_drawn);
       EXPECT_EQ(planned.stats.shading_calls, least.stats.shading_calls);
       EXPECT_GT(planned.stats.triangles_drawn, 0u);
+    }
+  }
+}
+
+// Several bands rendered at once (core/band.h's render bands, when the arena has room beyond the least)
+// give the least arena's frame: the same bands reach the sink, with the same bytes, whatever rows are
+// rendered at once (two bands, three, all of them, or as many as the spare arena holds), in every
+// output format (Mono1's pages, Grey4's nibbles), shaded, as ids and antialiased; the pieces are drawn
+// once a render band, and the walk runs once for all its bands.
+TEST(TilerRender, BandsRenderedAtOnceGiveTheLeastArenasFrame) {
+  if (!ml::tiler_renders_bands_at_once(ml::Scene{}, ml::RenderOptions{})) GTEST_SKIP() << "a 32-bit target";
+  std::mt19937 rng(57);
+  tiler_test::TestScene ts;
+  ts.build(tiler_test::random_scene(rng, 120, 160));
+  const ml::Camera cam = tiler_test::test_camera(101, 75);
+  struct Case {
+    ml::ShadingMode mode;
+    int aa;
+    ml::FilterKind filter;
+    ml::SamplePattern samples;
+    ml::PixelFormat format;
+    int band_rows;
+  };
+  const Case cases[] = {
+      {ml::ShadingMode::Ids, 1, ml::FilterKind::Box, ml::SamplePattern::Regular, ml::PixelFormat::Id32, 8},
+      {ml::ShadingMode::Flat, 1, ml::FilterKind::Box, ml::SamplePattern::Regular, ml::PixelFormat::Xrgb8888, 16},
+      {ml::ShadingMode::Gouraud, 1, ml::FilterKind::Box, ml::SamplePattern::Regular, ml::PixelFormat::Rgb565Be, 1},
+      {ml::ShadingMode::Flat, 1, ml::FilterKind::Box, ml::SamplePattern::Regular, ml::PixelFormat::Mono1, 8},
+      {ml::ShadingMode::Gouraud, 1, ml::FilterKind::Box, ml::SamplePattern::Regular, ml::PixelFormat::Grey4, 7},
+      {ml::ShadingMode::Flat, 4, ml::FilterKind::Box, ml::SamplePattern::Regular, ml::PixelFormat::Xrgb8888, 16},
+      {ml::ShadingMode::Flat, 2, ml::FilterKind::Cosine, ml::SamplePattern::Regular, ml::PixelFormat::Xrgb8888, 10},
+      {ml::ShadingMode::Gouraud, 4, ml::FilterKind::Box, ml::SamplePattern::Jittered, ml::PixelFormat::Grey8, 16},
+  };
+  for (const Case& c : cases) {
+    ml::RenderOptions o;
+    o.shading = c.mode;
+    o.aa = c.aa;
+    o.filter = c.filter;
+    o.samples = c.samples;
+    o.output.format = c.format;
+    o.output.band_rows = c.band_rows;
+    const size_t need = ml::render_arena_bytes(ts.scene, cam, o);
+    auto run = [&](size_t bytes) {
+      Frame f;
+      std::vector<uint8_t> mem(bytes, mlhost::kPoisonByte);
+      ml::Arena arena(mem.data(), mem.size());
+      f.status = ml::render(ts.scene, cam, o, arena, f.sink, &f.stats);
+      return f;
+    };
+    const Frame least = run(need);
+    ASSERT_TRUE(least.status.ok()) << least.status.message;
+    const int bands = (cam.height + c.band_rows - 1) / c.band_rows;
+    EXPECT_EQ(least.stats.render_bands, uint32_t(bands)) << "mode " << int(c.mode) << " format " << int(c.format);
+    const int whole = bands * c.band_rows;
+    for (int rows : {2 * c.band_rows, 3 * c.band_rows, whole, -1}) {
+      o.output.render_rows = std::max(rows, 0);  // -1: as many as render_spare_bytes holds (all)
+      const size_t bytes = rows < 0 ? need + ml::render_spare_bytes(ts.scene, cam, o)
+                                    : need + ml::tiler_render_rows_bytes(cam, o, rows);
+      const std::string where = "mode " + std::to_string(int(c.mode)) + " aa " + std::to_string(c.aa) + " format " +
+                                std::to_string(int(c.format)) + " rows " + std::to_string(rows);
+      const Frame f = run(bytes);
+      ASSERT_TRUE(f.status.ok()) << where << ": " << f.status.message;
+      ASSERT_TRUE(f.sink.contract_ok()) << where << ": " << f.sink.contract_error();
+      EXPECT_FALSE(f.sink.out_of_bounds) << where;
+      EXPECT_EQ(f.sink.image, least.sink.image) << where;
+      EXPECT_EQ(f.sink.calls, least.sink.calls) << where;
+      EXPECT_EQ(f.stats.bands, least.stats.bands) << where;
+      const int at_once = rows < 0 ? whole : rows;
+      EXPECT_EQ(f.stats.render_bands, uint32_t((cam.height + at_once - 1) / at_once)) << where;
+      EXPECT_EQ(f.stats.triangles_drawn + f.stats.triangles_culled, uint64_t(f.stats.bsp_pieces) * f.stats.render_bands)
+          << where;
+      // A byte short of those rows' bytes: one band fewer at once.
+      const Frame fewer = run(bytes - 1);
+      ASSERT_TRUE(fewer.status.ok()) << where;
+      EXPECT_EQ(fewer.sink.image, least.sink.image) << where;
+      if (rows > 0) {
+        EXPECT_GT(fewer.stats.render_bands, f.stats.render_bands) << where;
+      }
     }
   }
 }
@@ -828,7 +908,7 @@ void expect_same_frame(const Frame& culled, const Frame& plain, const ml::Camera
   for (int c : culled.sink.count) ASSERT_EQ(c, 1);
   EXPECT_EQ(plain.stats.bsp_subtrees_culled, 0u);
   EXPECT_EQ(culled.stats.triangles_drawn, plain.stats.triangles_drawn);
-  EXPECT_EQ(culled.stats.triangles_drawn + culled.stats.triangles_culled, uint64_t(culled.stats.bsp_pieces) * culled.stats.bands);
+  EXPECT_EQ(culled.stats.triangles_drawn + culled.stats.triangles_culled, uint64_t(culled.stats.bsp_pieces) * culled.stats.render_bands);
   for (size_t p = 0; p < culled.sink.image.size(); ++p)
     ASSERT_EQ(culled.sink.image[p], plain.sink.image[p]) << "pixel " << p % size_t(cam.width) << ","
                                                           << p / size_t(cam.width);
@@ -929,10 +1009,12 @@ TEST(TilerCull, OfficeMatchesUnculledRender) {
 uint32_t expect_same_with_and_without_plan(const ml::Scene& scene, const ml::Camera& cam) {
   const Unculled plain(scene);
   uint32_t culled_total = 0;
-  for (bool spare : {false, true}) {
+  // The least arena; the spare bytes with one band at a time (the plan), and with every band at once.
+  for (auto [spare, render_rows] : {std::pair<bool, int>{false, 0}, {true, 8}, {true, 0}}) {
     ml::RenderOptions opt;
     opt.shading = ml::ShadingMode::Ids;
     opt.output.band_rows = 8;
+    opt.output.render_rows = render_rows;
     auto run = [&](const ml::Scene& s) {
       Frame f;
       const size_t bytes = ml::render_arena_bytes(s, cam, opt) + (spare ? ml::render_spare_bytes(s, cam, opt) : 0);

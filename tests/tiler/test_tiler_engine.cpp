@@ -38,7 +38,7 @@ TEST(TilerEngine, EveryPixelOnceAt320x240AndOthers) {
       ASSERT_FALSE(sink.out_of_bounds);
       for (int c : sink.count) ASSERT_EQ(c, 1);
       EXPECT_EQ(st.pixel_writes, uint64_t(w) * uint64_t(h));
-      EXPECT_EQ(st.triangles_drawn + st.triangles_culled, uint64_t(st.bsp_pieces) * st.bands);
+      EXPECT_EQ(st.triangles_drawn + st.triangles_culled, uint64_t(st.bsp_pieces) * st.render_bands);
       EXPECT_GT(st.triangles_drawn, 100u);
       EXPECT_LE(st.peak_arena_bytes, need);
       if (w == 320 && mode == ml::ShadingMode::Flat) {

@@ -213,7 +213,7 @@ const mlhost::LoadedScene& crossing_scene() {
 }
 
 // The tiler with the plan and no cache, with a cache of the least size (most lookups miss) and with
-// the whole spare arena (render_spare_bytes: the plan and tiler_cache_bytes) gives the same frame byte
+// the whole spare arena (render_spare_bytes, a band at a time: the plan and tiler_cache_bytes) gives the same frame byte
 // for byte and the same counts, and the least arena the same image: on the bundled scene, the
 // textured banded scene and a scene of split pieces, in 16-row bands and in one band, flat, Gouraud,
 // ids and antialiased, from several sides.
@@ -239,6 +239,7 @@ TEST(VertexCacheFrames, EveryCacheSizeGivesTheSameFrame) {
         const ml::Camera cam = textest::camera_for(*c.scene, 120, 90, turn);
         ml::RenderOptions o = textest::options(ml::RendererKind::Tiler, c.mode, c.aa);
         o.output.band_rows = rows;
+        o.output.render_rows = rows;  // one band at a time: the plan
         const int bands = rows ? (cam.height + rows - 1) / rows : 1;
         const size_t need = ml::render_arena_bytes(scene, cam, o), plan = ml::tiler_plan_bytes(scene, bands);
         const size_t spare = ml::render_spare_bytes(scene, cam, o);

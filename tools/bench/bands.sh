@@ -13,10 +13,11 @@ engine=/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngin
 scenes=(default)
 [ -f "$work/engine.mls" ] && scenes+=(engine)
 
-# instructions SCENE RENDERER BAND_ROWS -> one frame at 320x240 in RGB565
+# instructions SCENE RENDERER BAND_ROWS -> one frame at 320x240 in RGB565, rendered a band at a time (the
+# tiler would otherwise render all bands at once in bench frame's spare arena: docs/displays.md)
 instructions() {
   valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file="$work/callgrind.bands" \
-    "$bench" frame "$work/$1.mls" "$2" 320x240 1 flat "$3" rgb565 2>&1 >/dev/null |
+    "$bench" frame "$work/$1.mls" "$2" 320x240 1 flat "$3:$3" rgb565 2>&1 >/dev/null |
     awk '/Collected/ { print $4 }'
 }
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", a / b }'; }

@@ -7,7 +7,7 @@
 //   bench prepare default|office[:LAYERS]|tessellated[:TRIANGLES]|FILE OUT.mls
 //       compile a scene (natively, before measuring) to a blob; writes OUT.mls.camera when the scene
 //       has a suggested camera (the office scene looks down its rows)
-//   bench frame SCENE.mls tiler|scanline|zbuffer WxH AA [flat|gouraud] [BAND_ROWS [FORMAT]]
+//   bench frame SCENE.mls tiler|scanline|zbuffer WxH AA [flat|gouraud] [BAND_ROWS[:RENDER_ROWS] [FORMAT]]
 //       one frame (flat shading unless told; 16-row XRGB8888 bands unless told, 0 = the whole frame
 //       as one band); prints "key=value ..." statistics on stdout
 #include <stdint.h>
@@ -231,7 +231,8 @@ int usage() {
   fprintf(stderr,
           "usage: bench prepare default|office[:LAYERS]|tessellated[:TRIANGLES]|banded[-plain|-nearest|-bilinear]|FILE|\n"
           "                     plain:FILE|nearest:FILE|bilinear:FILE OUT.mls\n"
-          "       bench frame SCENE.mls tiler|scanline|zbuffer WxH AA[,cosine][,jittered] [flat|gouraud] [BAND_ROWS [FORMAT]]\n"
+          "       bench frame SCENE.mls tiler|scanline|zbuffer WxH AA[,cosine][,jittered] [flat|gouraud]\n"
+          "                   [BAND_ROWS[:RENDER_ROWS] [FORMAT]]\n"
           "       bench quality SCENE.mls WxH\n");
   return 2;
 }
@@ -351,13 +352,13 @@ int frame(const std::string& path, const std::string& renderer, const std::strin
   }
   printf("renderer=%s size=%dx%d aa=%d filter=%s samples=%s triangles=%u drawn=%u culled=%u cells_visited=%llu cells_per_pixel=%.4f "
          "peak_arena_bytes=%u arena_bytes=%zu pyramid_bytes=%u shading_calls=%llu geometry_samples=%llu m_max=%u n=%u "
-         "pixel_writes=%llu sink_pixels=%llu bands=%u triangles_tiled=%u split_ratio=%.4f texture_bytes_loaded=%u "
+         "pixel_writes=%llu sink_pixels=%llu bands=%u render_bands=%u triangles_tiled=%u split_ratio=%.4f texture_bytes_loaded=%u "
          "texture_bytes_peak=%u texture_loads=%u subtrees_culled=%u planes_reused=%u\n",
          renderer.c_str(), w, h, aa, filter == ml::FilterKind::Cosine ? "cosine" : "box",
          samples == ml::SamplePattern::Jittered ? "jittered" : "regular", scene.triangle_count, stats.triangles_drawn, stats.triangles_culled,
          (unsigned long long)stats.cells_visited, double(stats.cells_visited) / pixels, stats.peak_arena_bytes, bytes,
          stats.pyramid_bytes, (unsigned long long)stats.shading_calls, (unsigned long long)stats.geometry_samples,
-         stats.m_max, stats.n, (unsigned long long)stats.pixel_writes, (unsigned long long)sink.pixels_, stats.bands,
+         stats.m_max, stats.n, (unsigned long long)stats.pixel_writes, (unsigned long long)sink.pixels_, stats.bands, stats.render_bands,
          stats.triangles_tiled, split, stats.texture_bytes_loaded, stats.texture_bytes_peak, stats.texture_loads,
          stats.bsp_subtrees_culled, stats.texture_planes_reused);
   return 0;
@@ -401,9 +402,10 @@ int main(int argc, char** argv) {
     if (argc >= 7 && strcmp(argv[6], "gouraud") == 0) shading = ml::ShadingMode::Gouraud;
     else if (argc >= 7 && strcmp(argv[6], "flat") != 0) return usage();
     ml::OutputOptions output;
-    if (argc >= 8) output.band_rows = atoi(argv[7]);
+    // BAND_ROWS[:RENDER_ROWS]: the sink's bands, and the rows the tiler may render at once (OutputOptions).
+    if (argc >= 8 && sscanf(argv[7], "%d:%d", &output.band_rows, &output.render_rows) < 1) return usage();
     if (argc >= 9 && !mlhost::parse_format(argv[8], &output.format)) return usage();
-    if (output.band_rows < 0) return usage();
+    if (output.band_rows < 0 || output.render_rows < 0) return usage();
     return frame(argv[2], argv[3], argv[4], aa, filter, samples, shading, output);
   }
   return usage();

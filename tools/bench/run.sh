@@ -37,13 +37,15 @@ field() { { grep -o "\b$1=[^ ]*" <<<"$2" || true; } | head -1 | cut -d= -f2; }
 
 rows=()
 declare -A base_ir all_ir arena_bound per_tiled_ir split_of
-# measure NAME RENDERER SIZE AA [SHADING] -> appends a table row
+# measure NAME RENDERER SIZE AA [SHADING [BANDS]] -> appends a table row. BANDS: bench frame's
+# BAND_ROWS[:RENDER_ROWS] (default 16, the core's: the tiler renders as many bands at once as its spare
+# arena holds, the whole frame); 16:16 renders them a band at a time (a row "tiler, a band at a time").
 measure() {
-  local name=$1 renderer=$2 size=$3 aa=$4 shading=${5:-flat}
-  local out="$work/callgrind.$name.$renderer.$size.$aa.$shading"
+  local name=$1 renderer=$2 size=$3 aa=$4 shading=${5:-flat} bands=${6:-16}
+  local out="$work/callgrind.$name.$renderer.$size.$aa.$shading.${bands/:/-}"
   local line
   line=$(valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file="$out" \
-           "$bench" frame "$work/$name.mls" "$renderer" "$size" "$aa" "$shading" 2>"$out.log") || {
+           "$bench" frame "$work/$name.mls" "$renderer" "$size" "$aa" "$shading" "$bands" 2>"$out.log") || {
     echo "bench: $name $renderer $size aa $aa failed: $(tail -1 "$out.log")"
     rows+=("| $name | $renderer | $size | $aa | failed | | | | | | | | | |")
     return 0
@@ -55,6 +57,8 @@ measure() {
   local per_pixel
   per_pixel=$(awk -v i="$ir" -v p="$((w * h))" 'BEGIN { printf "%.0f", i / p }')
   local ratio=""
+  local label=$renderer
+  [ "$bands" = 16 ] || label="$renderer, a band at a time"
   if [ "$renderer" = zbuffer ]; then
     base_ir["$name.$size"]=$ir
     ratio="1.00"
@@ -76,17 +80,20 @@ measure() {
   tiled=$(field triangles_tiled "$line"); split=$(field split_ratio "$line")
   if [ "$renderer" = tiler ] && [ -n "$tiled" ] && [ "$tiled" != 0 ]; then
     per_tiled=$(awk -v i="$ir" -v t="$tiled" 'BEGIN { printf "%.0f", i / t }')
-    [ "$aa" = 1 ] && per_tiled_ir["$name.$size"]=$per_tiled  # the key ratios are point-sampled frames
+    # the key ratios are point-sampled frames as the core renders them by default
+    [ "$aa" = 1 ] && [ "$bands" = 16 ] && per_tiled_ir["$name.$size"]=$per_tiled
   fi
   split_of["$name"]=$split
-  all_ir["$name.$renderer.$size.$aa"]=$ir
+  all_ir["$name.$label.$size.$aa"]=$ir
   if [ "$renderer" = scanline ]; then
     arena_bound["$name.$aa"]="$peak $((16 * n + 64 * mmax + 16 * w))"
   fi
   local tris
   tris=$(field triangles "$line")
-  rows+=("| $name${5:+ ($shading)} | $renderer | $size | $aa | $ir | $per_pixel | $ratio | ${per_tiled:-} | ${split:-} | ${cells:-} | ${peak:-} | ${reuse:-} | ${mmax:-} | ${n:-} |")
-  echo "  $name $renderer $size aa$aa: $ir instructions ($per_pixel/pixel) ${ratio:+x$ratio baseline}${per_tiled:+ $per_tiled/tiled triangle} [$tris triangles]"
+  local scene=$name
+  [ -n "${5:-}" ] && [ -z "${6:-}" ] && scene="$name ($shading)"
+  rows+=("| $scene | $label | $size | $aa | $ir | $per_pixel | $ratio | ${per_tiled:-} | ${split:-} | ${cells:-} | ${peak:-} | ${reuse:-} | ${mmax:-} | ${n:-} |")
+  echo "  $name $label $size aa$aa: $ir instructions ($per_pixel/pixel) ${ratio:+x$ratio baseline}${per_tiled:+ $per_tiled/tiled triangle} [$tris triangles]"
 }
 
 start=$SECONDS
@@ -98,6 +105,8 @@ for name in engine office default duck; do
   for size in "${sizes[@]}"; do
     measure "$name" zbuffer "$size" 1
     measure "$name" tiler "$size" 1
+    # With the least arena's band structure (each band walked apart, with the band plan).
+    [ "$size" = 128x64 ] || measure "$name" tiler "$size" 1 flat 16:16
   done
 done
 echo "bench: tiler at 8x8 samples a pixel (box and cosine-hump filters, jittered samples)"
@@ -143,6 +152,9 @@ for name in engine office tessellated default duck; do
   [ -n "${split_of[$name]:-}" ] && split_note+=" $name ${split_of[$name]};"
 done
 notes+=("${split_note%;}")
+for label in tiler "tiler, a band at a time"; do
+  notes+=("- engine, $label, 1024x768 / 320x240: $(ratio "${all_ir[engine.$label.1024x768.1]:-}" "${all_ir[engine.$label.320x240.1]:-}")")
+done
 notes+=("- office, tiler / z-buffer: 320x240 $(ratio "${all_ir[office.tiler.320x240.1]:-}" "${all_ir[office.zbuffer.320x240.1]:-}"), 1024x768 $(ratio "${all_ir[office.tiler.1024x768.1]:-}" "${all_ir[office.zbuffer.1024x768.1]:-}")")
 table=$(printf '%s\n' "$table" "${notes[@]}")
 echo

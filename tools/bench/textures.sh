@@ -35,14 +35,17 @@ if [ -f "$duck_dir/duck.dae" ] && [ -f "$duck_dir/duckCM.tga" ] && command -v as
   scenes+=(duck duck-nearest)
 fi
 
+# The core's 16-row bands, rendered a band at a time: the tiler renders frames with paged textures so
+# (docs/displays.md, render bands), and the untextured frames it is compared with the same way.
+bands=16:16
 # instructions SCENE RENDERER -> instructions of one frame
 instructions() {
   valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file="$work/callgrind.textures" \
-    "$bench" frame "$work/$1.mls" "$2" 320x240 1 flat 2>&1 >/dev/null | awk '/Collected/ { print $4 }'
+    "$bench" frame "$work/$1.mls" "$2" 320x240 1 flat "$bands" 2>&1 >/dev/null | awk '/Collected/ { print $4 }'
 }
 # stat SCENE RENDERER KEY -> a field of the same frame's statistics (run natively)
 stat() {
-  "$bench" frame "$work/$1.mls" "$2" 320x240 1 flat | grep -o "\b$3=[0-9]*" | cut -d= -f2
+  "$bench" frame "$work/$1.mls" "$2" 320x240 1 flat "$bands" | grep -o "\b$3=[0-9]*" | cut -d= -f2
 }
 
 echo "bench: textured frames against the same frames untextured (320x240, 1 sample a pixel, flat)"
