@@ -2,6 +2,7 @@
 // calls only render_tiler_box links no cosine-hump filter.
 #include "core/band.h"
 #include "render/entry.h"
+#include "texture/pager.h"
 #include "tiler/filter.h"
 #include "tiler/tiler.h"
 
@@ -27,12 +28,13 @@ size_t render_tiler_arena_bytes(const Scene& scene, const Camera& camera, const 
 }
 
 size_t render_tiler_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
-  // The most rows at once the options allow where the tiler renders several bands at once, and the plan
-  // of the bands that leaves.
+  // The most rows at once the options allow, and the plan of the bands that leaves; with textures the
+  // frame may keep to a band at a time (tiler_render_rows_bytes): then the plan of every band.
   const RenderOptions o = effective_options(options);
-  const int most = tiler_renders_bands_at_once(scene, o) ? render_rows_allowed(o.output, camera.height) : 0;
+  const int most = render_rows_allowed(o.output, camera.height);
   const size_t at_once = tiler_render_rows_bytes(camera, o, most);
-  const int rows = render_rows_for(o.output, camera.height, most);
+  const bool paged = o.shading != ShadingMode::Ids && texture_pool_needs(scene).desired > 0;
+  const int rows = at_once > 0 && !paged ? render_rows_for(o.output, camera.height, most) : band_rows_for(o.output, camera.height);
   return at_once + tiler_plan_bytes(scene, (camera.height + rows - 1) / rows) + tiler_cache_bytes(scene);
 }
 

@@ -33,6 +33,8 @@ void sort_by(uint32_t* a, uint32_t n, Key key) {
 
 }  // namespace
 
+uint32_t texture_pool_size(const Scene& scene, uint32_t t) { return pool_size(scene.texture_texels[t]); }
+
 TexturePoolNeeds texture_pool_needs(const Scene& scene) {
   TexturePoolNeeds needs;
   uint64_t total = 0;

@@ -27,6 +27,8 @@ struct TexturePoolNeeds {
   uint32_t desired = 0, minimum = 0;
 };
 TexturePoolNeeds texture_pool_needs(const Scene& scene);
+// The bytes texture `t` takes in the pool (0: no texels).
+uint32_t texture_pool_size(const Scene& scene, uint32_t t);
 
 // What a renderer knows about when each texture is needed next (the tiler: its BSP order), for the
 // pager's evictions: larger is later; kNever: not again this frame.

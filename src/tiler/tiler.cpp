@@ -738,6 +738,19 @@ class TexturePlan : public TextureNextUse {
     k_ = 0;
   }
   void at_piece(uint32_t k) { k_ = k; }
+  // The most pool bytes of the textures whose planned rows meet one band of `rows` rows (bands from
+  // row 0 to `height`): what the pager holds at most when each texture is read in the first band that
+  // shows it and freed after the last band that uses it.
+  uint64_t band_peak(const Scene& scene, int rows, int height) const {
+    uint64_t peak = 0;
+    for (uint32_t top = 0; top < uint32_t(height); top += uint32_t(rows)) {
+      uint64_t bytes = 0;
+      for (uint32_t t = 0; t < count_; ++t)
+        if (first_row_[t] < top + uint32_t(rows) && last_row_[t] >= top) bytes += texture_pool_size(scene, t);
+      peak = max_of(peak, bytes);
+    }
+    return peak;
+  }
 
   uint64_t next_use(uint32_t t) const override {
     if (t >= count_ || first_piece_[t] == kNone || first_row_[t] == kNone || last_row_[t] < top_) return kNever;
@@ -942,9 +955,10 @@ class TilerFrame {
   [[gnu::noinline]] bool tile_in_whole_parts(const ConvexPoly& poly, const ScreenTriangle* whole_parts, int count,
                                              const Vec3i* world);
   // The rows rendered at once: the most whole bands whose extra arena bytes (tiler_render_rows_bytes)
-  // `spare` holds; the pieces' per-band work (the walk, subtree tests, plan entries) is then done once
-  // for them all (the duck at 320x240: 16-row bands 23.9 M, one 240-row band 15.1 M). Before the plan
-  // and caches, which a frame of fewer bands needs less.
+  // `spare` holds and, with paged textures, whose planned texture residency (TexturePlan::band_peak)
+  // is no more than a band at a time's; the pieces' per-band work (the walk, subtree tests, plan
+  // entries) is then done once for them all (the duck at 320x240: 16-row bands 23.9 M, one 240-row
+  // band 15.1 M). Before the plan and caches, which a frame of fewer bands needs less.
   int rows_at_once(size_t spare) const;
   // The plan entry of a piece facing the eye, from its view-space vertices.
   uint16_t plan_bands(const ViewTriangle& view) const;
@@ -993,7 +1007,7 @@ class TilerFrame {
 
 Status TilerFrame::run(Arena& arena, Sink& sink) {
   const size_t need = tiler_arena_bytes(scene_, camera_, options_);
-  const int render_rows = rows_at_once(arena.size() - arena.used() - need);
+  const size_t spare = arena.size() - arena.used() - need;
   stack_cap_ = bsp_stack_entries(scene_);
   stack_ = arena.allocate_array<BspFrame>(stack_cap_);
   Pixel* row = arena.allocate_array<Pixel>(kRowPixels);
@@ -1010,7 +1024,7 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
     segment_rows = arena.allocate_array<TextureSegment>(size_t(1) << kSegmentRowBits);
     if (!segment_rows) return finish(error(StatusCode::ArenaTooSmall, "arena too small", need), arena);
   }
-  Status s = out_.begin(options_.output, camera_.width, camera_.height, arena, sink, render_rows);
+  Status s = out_.begin(options_.output, camera_.width, camera_.height, arena, sink, rows_at_once(spare));
   if (!s.ok()) return finish(s.code == StatusCode::ArenaTooSmall ? error(s.code, s.message, need) : s, arena);
   light_ = make_light(view_);
   BandWriter writer(out_, st_, row);
@@ -1097,9 +1111,13 @@ Status TilerFrame::render_band(int band, Arena& arena) {
 
 int TilerFrame::rows_at_once(size_t spare) const {
   const int rows = band_rows_for(options_.output, camera_.height);
-  if (!tiler_renders_bands_at_once(scene_, options_)) return rows;
+  if (!kRenderBands) return rows;
+  // With paged textures, no more rows at once than keep the planned residency of a band at a time.
+  const uint64_t resident = pager_.active() ? texture_plan_.band_peak(scene_, rows, camera_.height) : 0;
   for (int bands = render_rows_allowed(options_.output, camera_.height) / rows; bands > 1; --bands)
-    if (tiler_render_rows_bytes(camera_, options_, bands * rows) <= spare) return bands * rows;
+    if (tiler_render_rows_bytes(camera_, options_, bands * rows) <= spare &&
+        (!pager_.active() || texture_plan_.band_peak(scene_, bands * rows, camera_.height) <= resident))
+      return bands * rows;
   return rows;
 }
 
@@ -1469,10 +1487,6 @@ size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderO
          (jittered(options) ? arena_worst_case(jitter_table_bytes(factor), 1) : 0) +
          arena_worst_case(sizeof(BspFrame) * bsp_stack_entries(scene), 4) +
          arena_worst_case(sizeof(Pixel) * kRowPixels, 4);
-}
-
-bool tiler_renders_bands_at_once(const Scene& scene, const RenderOptions& options) {
-  return kRenderBands && (options.shading == ShadingMode::Ids || texture_pool_needs(scene).desired == 0);
 }
 
 size_t tiler_render_rows_bytes(const Camera& camera, const RenderOptions& options, int render_rows) {

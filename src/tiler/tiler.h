@@ -32,16 +32,14 @@ size_t tiler_plan_bytes(const Scene& scene, int bands);
 // vertex cache, view/vertex_cache.h: 40 bytes a vertex up to 1,024; none on 32-bit targets). Taken,
 // as many as fit, from what the arena has free after the plan; the image is the same either way.
 size_t tiler_cache_bytes(const Scene& scene);
-// Whether the tiler renders several bands at once when the arena has room (core/band.h's render
-// bands): on 64-bit hosts, in frames without paged textures. The pager frees a texture after the last
-// band that uses it; the banded scene's four textures at 320x240 in 16-row bands peak at half their
-// bytes resident, all at once at all of them.
-bool tiler_renders_bands_at_once(const Scene& scene, const RenderOptions& options);
-// Arena bytes beyond tiler_arena_bytes with which such a frame is rendered `render_rows` rows at a time
-// (render_rows_for: whole bands): one band buffer of those rows in place of the band buffers, and a
-// pyramid (and antialiasing sums) that tall. The walk of the BSP and its per-band tests then run once
-// for all those bands. Taken before the plan and the vertex cache: as many bands at once as the arena
-// has free (the image is the same either way).
+// Arena bytes beyond tiler_arena_bytes with which the frame is rendered `render_rows` rows at a time
+// (render_rows_for: whole bands; core/band.h's render bands, on 64-bit hosts, 0 elsewhere): one band
+// buffer of those rows in place of the band buffers, and a pyramid (and antialiasing sums) that tall.
+// The walk of the BSP and its per-band tests then run once for all those bands. Taken before the plan
+// and the vertex cache: as many bands at once as the arena has free (the image is the same either
+// way), and in a frame with paged textures no more than keep the textures the pager plans to hold at
+// once to a band at a time's (the pager frees a texture after the last band that uses it: the banded
+// scene's four textures at 320x240 in 16-row bands peak at half their bytes, in one band at all).
 size_t tiler_render_rows_bytes(const Camera& camera, const RenderOptions& options, int render_rows);
 // cosine: the cosine-hump filter to use when options.filter asks for it (a CosineFilter); null leaves
 // it out of the image (such a render is Unsupported).

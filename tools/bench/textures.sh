@@ -35,8 +35,9 @@ if [ -f "$duck_dir/duck.dae" ] && [ -f "$duck_dir/duckCM.tga" ] && command -v as
   scenes+=(duck duck-nearest)
 fi
 
-# The core's 16-row bands, rendered a band at a time: the tiler renders frames with paged textures so
-# (docs/displays.md, render bands), and the untextured frames it is compared with the same way.
+# The core's 16-row bands, rendered a band at a time, textured and untextured alike: with arena to spare
+# the tiler renders several bands at once, a textured frame fewer than the same frame untextured where
+# that keeps its texture residency (docs/displays.md, render bands), and the ratio is the texture work's.
 bands=16:16
 # instructions SCENE RENDERER -> instructions of one frame
 instructions() {
