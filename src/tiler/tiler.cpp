@@ -951,8 +951,9 @@ class TilerFrame {
                                       ScreenTriangle whole_parts[kMaxClipTriangles], int* whole_n, ConvexPoly* poly);
   // A split piece's part whose whole triangle projects in several parts, tiled in each with its colour
   // planes; false when the sink refused a write.
-  // Out of line: rare (triangles the near plane or the guard band cuts), off the walk's loop.
-  [[gnu::noinline]] bool tile_in_whole_parts(const ConvexPoly& poly, const ScreenTriangle* whole_parts, int count,
+  // Out of line and optimized for size: rare (triangles the near plane or the guard band cuts), off
+  // the walk's loop (m0plus: 292 bytes, 338 at -O2; that image is within 120 bytes of its budget).
+  [[gnu::noinline, gnu::optimize("Os")]] bool tile_in_whole_parts(ConvexPoly* poly, const ScreenTriangle* whole_parts, int count,
                                              const Vec3i* world);
   // The rows rendered at once: the most whole bands whose extra arena bytes (tiler_render_rows_bytes)
   // `spare` holds and, with paged textures, whose planned texture residency (TexturePlan::band_peak)
@@ -1335,43 +1336,34 @@ const ScreenTriangle* TilerFrame::clip_to_whole(const Triangle& tri, const Vec3i
   return &whole_parts[0];
 }
 
-// Whether the edge p -> q of one of a clipped triangle's parts is shared with another part (a diagonal
-// of the clipped polygon, inside the triangle; the parts' vertices are computed once, so shared
-// corners are equal).
-bool inner_edge(const ScreenTriangle* parts, int count, int self, const ScreenVertex& p, const ScreenVertex& q) {
-  auto has = [](const ScreenTriangle& t, const ScreenVertex& v) {
-    for (const ScreenVertex& c : t.v)
-      if (c.x == v.x && c.y == v.y) return true;
-    return false;
-  };
-  for (int j = 0; j < count; ++j)
-    if (j != self && has(parts[j], p) && has(parts[j], q)) return true;
-  return false;
-}
-
-// A split piece whose whole triangle the near plane (or the guard band) cut: the triangle's parts
-// fan out of one corner of the clipped polygon, each with colour planes of its own (their corner
-// colours blend the vertex colours by the corners' weights), as the scanline renderer draws them.
-// The piece's part is tiled once per whole part, cut by that part's inner edges (the diagonals it
-// shares with the others): every sample of the piece lies on one side or the other of each diagonal,
-// so it is tiled with the planes of the whole part over it (a sample of a half-plane's overlap, behind
-// the fan's corner and outside the triangle, goes to the first; the pyramid takes it once).
-// poly: the piece's part in the band (BandRows::clip).
-bool TilerFrame::tile_in_whole_parts(const ConvexPoly& poly, const ScreenTriangle* whole_parts, int count,
+// A split piece whose whole triangle the near plane (or the guard band) cut: the triangle's parts each
+// have colour planes of their own (their corners' colours blend the vertex colours by the corners'
+// weights), as the scanline renderer draws them. The piece's part is tiled in each whole part (its
+// edges and the whole part's), with that part's planes, then as it is, with the first part's planes:
+// the samples of the piece outside its whole triangle's parts (split points are quantized, so the
+// piece may stray from the triangle by a fraction of a subpixel) are covered as before, only their
+// colour extrapolated (the pyramid takes every sample once).
+// poly: the piece's part in the band (BandRows::clip); each whole part's edges are added after the
+// piece's own and taken off again.
+bool TilerFrame::tile_in_whole_parts(ConvexPoly* poly, const ScreenTriangle* whole_parts, int count,
                                      const Vec3i* world) {
-  for (int j = 0; j < count; ++j) {
-    ConvexPoly cut = poly, edges;
-    const ScreenTriangle& t = whole_parts[j];
-    poly_edges(t, &edges);
-    for (int k = 0; k < 3 && cut.n < kMaxPolyEdges; ++k) {
-      if (!inner_edge(whole_parts, count, j, t.v[k], t.v[k == 2 ? 0 : k + 1])) continue;
-      cut.edge[cut.n] = edges.edge[k];
-      band_.to_band(&cut.edge[cut.n++]);  // as the piece's edges (BandRows::clip)
+  const int own = poly->n;
+  for (int j = 0; j <= count; ++j) {
+    poly->n = own;
+    if (j < count && own + 3 <= kMaxPolyEdges) {
+      ConvexPoly edges;
+      poly_edges(whole_parts[j], &edges);
+      for (int k = 0; k < 3; ++k) {
+        EdgeFunction& e = poly->edge[poly->n++];
+        e = edges.edge[k];
+        band_.to_band(&e);  // as the piece's edges (BandRows::clip)
+      }
     }
     ++st_->triangles_tiled;
-    writer_->begin_part(&t, world);
-    if (tiler_.tile(cut, *writer_) == TileResult::Failed) return false;
+    writer_->begin_part(&whole_parts[j < count ? j : 0], world);
+    if (tiler_.tile(*poly, *writer_) == TileResult::Failed) return false;
   }
+  poly->n = own;
   return true;
 }
 
@@ -1455,7 +1447,7 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
               : &parts[i];
     if (!band_.clip(&poly)) continue;
     if (!colour_part) {
-      if (!tile_in_whole_parts(poly, whole_parts, whole_n, have_whole ? whole_world : nullptr)) return false;
+      if (!tile_in_whole_parts(&poly, whole_parts, whole_n, have_whole ? whole_world : nullptr)) return false;
       continue;
     }
     ++st_->triangles_tiled;
