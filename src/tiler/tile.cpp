@@ -92,8 +92,46 @@ class RowSpans {
     *first = lo;
     *last = hi;
   }
+  // Whether the crossing edges are at most two left bounds and two right bounds (every triangle's,
+  // and most clipped parts'): rows() then steps them in registers, not through the arrays.
+  bool two_by_two() const { return lower_n_ <= 2 && upper_n_ <= 2 && level_n_ == 0; }
+  // row() for rows 0..count-1 in turn, handing each row's span to emit(row, first, last) (none when
+  // first > last). Only when two_by_two(); one loop for each count of left and right bounds.
+  template <class Emit>
+  void rows(int count, int32_t last_column, Emit emit) {
+    if (lower_n_ == 2) {
+      if (upper_n_ == 2) rows_of<2, 2>(count, last_column, emit);
+      else rows_of<2, 1>(count, last_column, emit);
+    } else {
+      if (upper_n_ == 2) rows_of<1, 2>(count, last_column, emit);
+      else rows_of<1, 1>(count, last_column, emit);
+    }
+  }
 
  private:
+  // rows() with kLower left and kUpper right bounds; a missing one (none of a side) is stood in for by
+  // one that bounds nothing (q = 2^30 stays beyond every column: no steps).
+  template <int kLower, int kUpper, class Emit>
+  void rows_of(int count, int32_t last_column, Emit emit) {
+    const Bound none{1, int32_t(1) << 30, 0, 0, 0};
+    Bound l0 = lower_n_ > 0 ? lower_[0] : none, l1 = kLower == 2 ? lower_[1] : none;
+    Bound u0 = upper_n_ > 0 ? upper_[0] : none, u1 = kUpper == 2 ? upper_[1] : none;
+    for (int y = 0; y < count; ++y) {
+      int32_t first = max_of(int32_t(0), -l0.q), last = min_of(last_column, u0.q);
+      l0.next_row();
+      u0.next_row();
+      if (kLower == 2) {
+        first = max_of(first, -l1.q);
+        l1.next_row();
+      }
+      if (kUpper == 2) {
+        last = min_of(last, u1.q);
+        u1.next_row();
+      }
+      if (first <= last) emit(y, first, last);
+    }
+  }
+
   // floor(E_j / d) = q with remainder r (0 <= r < d), and its steps from row to row.
   struct Bound {
     int32_t d, q, r, step_q, step_r;
@@ -151,17 +189,23 @@ struct PlacedSpan {
 };
 #endif
 constexpr int kSmallBoxBlocks = kSmallBoxSamples / 8 + 1;
+// RowSpans::rows (the bounds stepped in registers) on 64-bit hosts only: on a Cortex-M0+ the second
+// copy of the row loop is 664 bytes of flash it does not have.
+constexpr bool kRowsInRegisters = UINTPTR_MAX > 0xFFFFFFFFu;
 
 // Bits first..last of a row (0 <= first <= last < kSmallBoxSamples).
 inline SpanWord span_bits(int32_t first, int32_t last) {
   return ((SpanWord(2) << last) - 1) & (~SpanWord(0) << first);
 }
 
+// |v| < limit, one unsigned comparison (limit > 0).
+inline bool within(int64_t v, int64_t limit) { return uint64_t(v) + uint64_t(limit - 1) < uint64_t(2 * limit - 1); }
+
 // Whether RowSpans can step an edge whose values over the samples lie in [lo, hi] and whose steps
 // between samples are a (columns) and b (rows): everything below 2^30.
 inline bool rows_fit(int64_t lo, int64_t hi, int64_t a, int64_t b) {
   constexpr int64_t kLimit = int64_t(1) << 30;
-  return -lo < kLimit && hi < kLimit && abs64(a) < kLimit && abs64(b) < kLimit;
+  return -lo < kLimit && hi < kLimit && within(a, kLimit) && within(b, kLimit);
 }
 
 enum class SmallSetup : uint8_t { Ready, Outside, TooLarge };
@@ -178,7 +222,7 @@ SmallSetup small_edges(const ConvexPoly& poly, int32_t pitch, RowSpans* rows) {
   rows->clear();
   for (int i = 0; i < poly.n; ++i) {
     const EdgeFunction& e = poly.edge[i];
-    if (abs64(e.a) >= kStepLimit || abs64(e.b) >= kStepLimit) return SmallSetup::TooLarge;
+    if (!within(e.a, kStepLimit) || !within(e.b, kStepLimit)) return SmallSetup::TooLarge;
     const int32_t a = int32_t(e.a), b = int32_t(e.b);
     // A linear function's extremes over the box: its value at x0, y0 plus the negative (positive) steps.
     const int64_t k0 = int64_t(a) * x0 + int64_t(b) * y0 + e.c;
@@ -433,22 +477,26 @@ bool HierTiler::query_cell(int level, int mx, int my, const Edges& in) const {
   return false;
 }
 
-// The bits of an 8x8 mask in columns c0..c1 and rows r0..r1 (of a box given relative to the mask:
-// clipped to 0..7 here; 0 when the box misses the mask).
-inline uint64_t box_mask(int c0, int c1, int r0, int r1) {
-  c0 = max_of(0, c0);
-  c1 = min_of(7, c1);
-  r0 = max_of(0, r0);
-  r1 = min_of(7, r1);
-  if (c0 > c1 || r0 > r1) return 0;
+// The bits of an 8x8 mask in columns c0..c1 and rows r0..r1 (0 <= c0 <= c1 <= 7, 0 <= r0 <= r1 <= 7).
+inline uint64_t range_mask(int c0, int c1, int r0, int r1) {
   const uint32_t row = (0xFFu >> (7 - c1)) & (0xFFu << c0);
   return (uint64_t(row) * 0x0101010101010101u) & (kAll >> (8 * (7 - r1))) & (kAll << (8 * r0));  // rows r0..r1
 }
 
-// Subcells (samples at the finest level) of a level-`level` cell that the polygon's box overlaps.
+// The subcells of mask (mx, my) inside the box of subcells [x0, x1] x [y0, y1] (x0, y0 >= 0), which
+// must overlap the mask: the box's first and last columns and rows cut it only in the masks that hold
+// them, so there is nothing to clip.
+inline uint64_t overlap_mask(int32_t x0, int32_t x1, int32_t y0, int32_t y1, int mx, int my) {
+  return range_mask((x0 >> 3) == mx ? x0 & 7 : 0, (x1 >> 3) == mx ? x1 & 7 : 7, (y0 >> 3) == my ? y0 & 7 : 0,
+                    (y1 >> 3) == my ? y1 & 7 : 7);
+}
+
+// Subcells (samples at the finest level) of a level-`level` cell that the polygon's box overlaps. Only
+// for cells that overlap the box: the start cell encloses it, and every cell the descents visit below
+// it was picked by these bits.
 uint64_t HierTiler::box_bits(int level, int mx, int my) const {
   const int sub = pyr_->layout.shift(level) - 3;
-  return box_mask((bx0_ >> sub) - mx * 8, (bx1_ >> sub) - mx * 8, (by0_ >> sub) - my * 8, (by1_ >> sub) - my * 8);
+  return overlap_mask(bx0_ >> sub, bx1_ >> sub, by0_ >> sub, by1_ >> sub, mx, my);
 }
 
 // box_bits of finest block (bx, by), without the level arithmetic on 64-bit hosts. The boards call
@@ -457,7 +505,7 @@ inline uint64_t HierTiler::block_box(int bx, int by) const {
 #if UINTPTR_MAX == 0xFFFFFFFFu
   return box_bits(pyr_->layout.finest(), bx, by);
 #else
-  return box_mask(bx0_ - bx * 8, bx1_ - bx * 8, by0_ - by * 8, by1_ - by * 8);
+  return overlap_mask(bx0_, bx1_, by0_, by1_, bx, by);
 #endif
 }
 
@@ -583,14 +631,22 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
   if (setup == SmallSetup::Outside) return true;
   const int32_t last_column = poly.max_x - poly.min_x;
   const int s = poly.min_x & 7;  // the box's first column within its block
-  for (int y = poly.min_y; y <= poly.max_y; ++y) {
-    int32_t first, last;
-    rows.row(last_column, &first, &last);
-    if (first > last) continue;
-    // The span placed at its column in the blocks it reaches.
+  const int y0 = poly.min_y & 7;  // the box's first row within its block
+  // A row's span placed at its column in the blocks it reaches (row y of the box).
+  auto place = [&](int y, int32_t first, int32_t last) {
     const PlacedSpan row(span_bits(first, last), s);
-    const int j = (y >> 3) - cy0, shift = (y & 7) * 8;
+    const int j = (y + y0) >> 3, shift = ((y + y0) & 7) * 8;
     for (int i = (first + s) >> 3; i <= (last + s) >> 3; ++i) cover[j][i] |= uint64_t(row.byte(i)) << shift;
+  };
+  const int count = poly.max_y - poly.min_y + 1;
+  if (kRowsInRegisters && rows.two_by_two()) {
+    rows.rows(count, last_column, place);
+  } else {
+    for (int y = 0; y < count; ++y) {
+      int32_t first, last;
+      rows.row(last_column, &first, &last);
+      if (first <= last) place(y, first, last);
+    }
   }
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
