@@ -4,7 +4,6 @@ namespace ml {
 namespace {
 
 constexpr int kCrossBits = 28;   // the P_j x P_k keep this many bits (a common scale)
-constexpr int kWeightKeep = 28;  // e_i keep this many bits per sample before the division
 constexpr int kMantissaBits = 16;  // the error bound compares products of 16-bit mantissas
 
 int log2_of(uint32_t v) { return bit_length(v) - 1; }
@@ -150,76 +149,56 @@ void use_segment_rows(TexturePlanes* p, TextureSegment* rows, int count_bits) {
   for (uint32_t i = 0; i <= p->row_mask; ++i) rows[i].y = -1;
 }
 
-namespace {
-
-// floor(n / d) for d > 0. On 64-bit hosts one signed division gives the truncated quotient and its
-// remainder, and a negative remainder steps the quotient down: the same floor as div_floor without
-// its branch on n's sign (boards: div_floor, whose 32-bit divisor takes udiv_64_32).
-inline int64_t floor_quotient(int64_t n, int64_t d) {
+void exact_texture_uv(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out) {
 #if UINTPTR_MAX == 0xFFFFFFFFu
-  return div_floor(n, d);
+  exact_texture_uv_looped(p, x, y, out);  // the boards' flash
 #else
-  const int64_t q = n / d, r = n % d;
-  return q - (r < 0 ? 1 : 0);
+  ExactSteps steps(p);
+  steps.start(p, x, y);
+  out->denom = steps.denom();
+  out->clean = steps.here(out->uv) && out->denom != 0;
 #endif
 }
 
-// A triangle's texture coordinates as the division takes them: vertex 0's, and the other two's
-// differences from it (|d| < 2^32).
-struct UvFromVertex0 {
-  int64_t u0, v0, du1, du2, dv1, dv2;
-  explicit UvFromVertex0(const TexturePlanes& p)
-      : u0(p.uv[0][0]), v0(p.uv[0][1]), du1(int64_t(p.uv[1][0]) - u0), du2(int64_t(p.uv[2][0]) - u0),
-        dv1(int64_t(p.uv[1][1]) - v0), dv2(int64_t(p.uv[2][1]) - v0) {}
-};
-
-// The coordinates of one sample from its plane values e_i (exact_texture_uv's division, shared by
-// exact_texture_row): sum uv_i e_i / sum e_i with each e_i shifted to kWeightKeep bits first (their
-// common shift: the divisor stays below 2^30), floored, clamped to int32. The sums are taken from
-// vertex 0: floor(sum uv_i w_i / W) = uv_0 + floor((d_1 w_1 + d_2 w_2) / W) for W = sum w_i and
-// d_i = uv_i - uv_0 (|d_i w_i| < 2^60): two products a coordinate instead of three. Returns false when
-// a quotient left int32 or the shifted sum is 0 (the ray grazes the triangle's plane: any vertex will
-// do, vertex 0's coordinates).
-__attribute__((always_inline)) inline bool divide_sample(const UvFromVertex0& t, int64_t e0, int64_t e1, int64_t e2,
-                                                         int32_t uv[2]) {
-  const int shift = max_of(0, bit_length(magnitude(e0) | magnitude(e1) | magnitude(e2)) - kWeightKeep);
-  const int64_t w1 = e1 >> shift, w2 = e2 >> shift;
-  int64_t total = (e0 >> shift) + w1 + w2;
-  int64_t nu = t.du1 * w1 + t.du2 * w2, nv = t.dv1 * w1 + t.dv2 * w2;
-  if (total < 0) total = -total, nu = -nu, nv = -nv;  // (-n) / (-W): the same quotient
-  if (total == 0) {
-    uv[0] = int32_t(t.u0);
-    uv[1] = int32_t(t.v0);
-    return false;
+void exact_texture_uv_looped(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out) {
+  int64_t e[3];
+  uint64_t largest = 0;
+  out->denom = 0;
+  for (int i = 0; i < 3; ++i) {
+    e[i] = p.a[i] * x + p.b[i] * y + p.k[i];
+    out->denom += e[i];  // |e_i| < 2^61: the sum fits
+    largest |= magnitude(e[i]);
   }
-  const int64_t qu = t.u0 + floor_quotient(nu, total), qv = t.v0 + floor_quotient(nv, total);
-  // Both within int32 (the usual case, one test): q + 2^31 below 2^32 as unsigned.
-  if (((uint64_t(qu) + 0x80000000u) | (uint64_t(qv) + 0x80000000u)) >> 32 == 0) {
-    uv[0] = int32_t(qu);
-    uv[1] = int32_t(qv);
-    return true;
+  const int shift = max_of(0, bit_length(largest) - kTextureWeightBits);
+  int64_t total = 0;
+  for (int i = 0; i < 3; ++i) {
+    e[i] >>= shift;
+    total += e[i];
   }
-  uv[0] = int32_t(clamp_to<int64_t>(qu, INT32_MIN, INT32_MAX));
-  uv[1] = int32_t(clamp_to<int64_t>(qv, INT32_MIN, INT32_MAX));
-  return false;
-}
-
-}  // namespace
-
-void exact_texture_uv(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out) {
-  const int64_t e0 = p.a[0] * x + p.b[0] * y + p.k[0], e1 = p.a[1] * x + p.b[1] * y + p.k[1];
-  const int64_t e2 = p.a[2] * x + p.b[2] * y + p.k[2];
-  out->denom = e0 + e1 + e2;  // |e_i| < 2^61: the sum fits
-  out->clean = divide_sample(UvFromVertex0(p), e0, e1, e2, out->uv) && out->denom != 0;
+  if (total < 0) {
+    total = -total;
+    for (int i = 0; i < 3; ++i) e[i] = -e[i];
+  }
+  if (total == 0) {  // the ray grazes the triangle's plane: any vertex will do
+    out->uv[0] = p.uv[0][0];
+    out->uv[1] = p.uv[0][1];
+    out->clean = false;
+    return;
+  }
+  out->clean = out->denom != 0;
+  for (int k = 0; k < 2; ++k) {
+    // |uv| < 2^31 and |e| < 2^28: the sum stays below 2^61; total < 2^30 divides in 32 bits.
+    const int64_t sum = p.uv[0][k] * e[0] + p.uv[1][k] * e[1] + p.uv[2][k] * e[2];
+    const int64_t q = div_floor(sum, total);
+    if (q < INT32_MIN || q > INT32_MAX) out->clean = false;
+    out->uv[k] = int32_t(clamp_to<int64_t>(q, INT32_MIN, INT32_MAX));
+  }
 }
 
 void exact_texture_row(const TexturePlanes& p, int32_t x, int32_t y, int32_t n, int32_t (*uv)[2]) {
-  // exact_texture_uv's coordinates, the planes stepped along the row (no denominator or flags kept).
-  int64_t e0 = p.a[0] * x + p.b[0] * y + p.k[0], e1 = p.a[1] * x + p.b[1] * y + p.k[1];
-  int64_t e2 = p.a[2] * x + p.b[2] * y + p.k[2];
-  const int64_t a0 = p.a[0], a1 = p.a[1], a2 = p.a[2];
-  const UvFromVertex0 t(p);
-  for (int32_t j = 0; j < n; ++j, e0 += a0, e1 += a1, e2 += a2) divide_sample(t, e0, e1, e2, uv[j]);
+  ExactSteps steps(p);
+  steps.start(p, x, y);
+  for (int32_t j = 0; j < n; ++j) steps.next(uv[j]);
 }
 
 const TexturePiece& texture_piece(TexturePlanes& p, int32_t x, int32_t y) {

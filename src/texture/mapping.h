@@ -102,12 +102,87 @@ void make_texture_planes(const View& view, const Vec3i world[3], const int32_t u
 // that draws a block row by row finds the segments again in the next block.
 void use_segment_rows(TexturePlanes* planes, TextureSegment* rows, int count_bits);
 
-// The exact coordinates at lattice sample (X, Y) >= 0: sum uv_i e_i / sum e_i, floored.
+// The exact coordinates at lattice sample (X, Y) >= 0: sum uv_i e_i / sum e_i, floored (ExactSteps'
+// division, below).
 void exact_texture_uv(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out);
+// The same division as a loop over the vertices and axes: exact_texture_uv on 32-bit boards, whose
+// flash it spares (about 330 bytes on the Cortex-M0+ against ExactSteps written out). The same
+// coordinates (TextureMapping.ExactDivisionIsTheFlooredQuotient checks both on the host).
+void exact_texture_uv_looped(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out);
 
 // exact_texture_uv's coordinates of samples x .. x + n - 1 of row y (x >= 0), into uv: the planes
 // stepped along the row, one division a coordinate and sample.
 void exact_texture_row(const TexturePlanes& p, int32_t x, int32_t y, int32_t n, int32_t (*uv)[2]);
+
+// floor(n / d) for d > 0. On 64-bit hosts one signed division gives the truncated quotient and its
+// remainder, and a negative remainder steps the quotient down: the same floor as div_floor without
+// its branch on n's sign (boards: div_floor, whose 32-bit divisor takes udiv_64_32).
+inline int64_t texture_floor_quotient(int64_t n, int64_t d) {
+#if UINTPTR_MAX == 0xFFFFFFFFu
+  return div_floor(n, d);
+#else
+  const int64_t q = n / d, r = n % d;
+  return q - (r < 0 ? 1 : 0);
+#endif
+}
+
+// The exact coordinates of samples x, x + 1, ... of a row, one at a time (exact_texture_uv's, the
+// planes stepped along the row): for a caller that uses each sample's coordinates at once.
+// Each sample divides sum uv_i e_i by sum e_i with the e_i shifted to kTextureWeightBits bits first
+// (one common shift: the divisor stays below 2^30), floored and clamped to int32. The sums are taken
+// from vertex 0: floor(sum uv_i w_i / W) = uv_0 + floor((d_1 w_1 + d_2 w_2) / W) for W = sum w_i and
+// d_i = uv_i - uv_0 (|d_i| < 2^32, |d_i w_i| < 2^60): two products a coordinate instead of three.
+constexpr int kTextureWeightBits = 28;
+class ExactSteps {
+ public:
+  __attribute__((always_inline)) explicit ExactSteps(const TexturePlanes& p)
+      : u0_(p.uv[0][0]), v0_(p.uv[0][1]), du1_(int64_t(p.uv[1][0]) - u0_), du2_(int64_t(p.uv[2][0]) - u0_),
+        dv1_(int64_t(p.uv[1][1]) - v0_), dv2_(int64_t(p.uv[2][1]) - v0_), a0_(p.a[0]), a1_(p.a[1]), a2_(p.a[2]) {}
+  // The row's first sample: (x, y) of the lattice.
+  __attribute__((always_inline)) void start(const TexturePlanes& p, int32_t x, int32_t y) {
+    e0_ = p.a[0] * x + p.b[0] * y + p.k[0];
+    e1_ = p.a[1] * x + p.b[1] * y + p.k[1];
+    e2_ = p.a[2] * x + p.b[2] * y + p.k[2];
+  }
+  // sum e_i at the current sample, unshifted (|e_i| < 2^61: the sum fits).
+  int64_t denom() const { return e0_ + e1_ + e2_; }
+  // The current sample's coordinates, then the next sample along the row.
+  __attribute__((always_inline)) void next(int32_t uv[2]) {
+    divide(e0_, e1_, e2_, uv);
+    e0_ += a0_, e1_ += a1_, e2_ += a2_;
+  }
+  // The current sample's coordinates. False when a quotient left int32 or the shifted sum is 0 (the
+  // ray grazes the triangle's plane: any vertex will do, vertex 0's).
+  bool here(int32_t uv[2]) const { return divide(e0_, e1_, e2_, uv); }
+
+ private:
+  __attribute__((always_inline)) bool divide(int64_t e0, int64_t e1, int64_t e2, int32_t uv[2]) const {
+    const int shift = max_of(0, bit_length(magnitude(e0) | magnitude(e1) | magnitude(e2)) - kTextureWeightBits);
+    const int64_t w1 = e1 >> shift, w2 = e2 >> shift;
+    int64_t total = (e0 >> shift) + w1 + w2;
+    int64_t nu = du1_ * w1 + du2_ * w2, nv = dv1_ * w1 + dv2_ * w2;
+    if (total < 0) total = -total, nu = -nu, nv = -nv;  // (-n) / (-W): the same quotient
+    if (total == 0) {
+      uv[0] = int32_t(u0_);
+      uv[1] = int32_t(v0_);
+      return false;
+    }
+    const int64_t qu = u0_ + texture_floor_quotient(nu, total), qv = v0_ + texture_floor_quotient(nv, total);
+    // Both within int32 (the usual case, one test): q + 2^31 below 2^32 as unsigned.
+    if (((uint64_t(qu) + 0x80000000u) | (uint64_t(qv) + 0x80000000u)) >> 32 == 0) {
+      uv[0] = int32_t(qu);
+      uv[1] = int32_t(qv);
+      return true;
+    }
+    uv[0] = int32_t(clamp_to<int64_t>(qu, INT32_MIN, INT32_MAX));
+    uv[1] = int32_t(clamp_to<int64_t>(qv, INT32_MIN, INT32_MAX));
+    return false;
+  }
+
+  int64_t u0_, v0_, du1_, du2_, dv1_, dv2_;
+  int64_t a0_, a1_, a2_;
+  int64_t e0_ = 0, e1_ = 0, e2_ = 0;
+};
 
 // The length bits of the affine pieces of the segment between exact ends s and e, kTextureSegmentBits
 // down to 0: the error bound above, in 16-bit mantissas.

@@ -540,68 +540,77 @@ Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut,
 }
 
 #ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
-// A small triangle's samples (TexturePlanes::exact): exact coordinates a row of up to kExactChunk
-// samples at a time, each sample's colour through the table (nearest filtering: its texel taken
-// here, format F known; bilinear, the white table's texels filtered, then multiplied) or decoded,
-// without one. (The firmware, ML_TEXTURE_RUNS_GENERAL_ONLY, for its
-// code budget: texture_rows' samples one by one, each exact.)
-constexpr int32_t kExactChunk = 16;
-
+// A small triangle's samples (TexturePlanes::exact): exact coordinates sample by sample along each
+// run (ExactSteps), each sample's colour through the table (nearest filtering: its texel taken here,
+// format F known; bilinear, the white table's texels filtered, then multiplied) or decoded, without
+// one. (The firmware, ML_TEXTURE_RUNS_GENERAL_ONLY, for its code budget: texture_rows' samples one
+// by one, each exact.)
 // The runs: run_at(k) for k < count (texture_rows' rows, texture_runs' runs).
 template <TexelFormat F, typename RunAt>
-void exact_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
+ML_RUN_HELPER void exact_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                 Pixel colour, int32_t count, RunAt run_at, Pixel* out) {
-  int32_t uv[kExactChunk][2];
   const bool nearest = lut && t.filter != uint8_t(TextureFilter::Bilinear);
-  const bool filter_white = lut && !nearest && lut_colour == 0xFFFFFF;
   const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;
-  const Tint tint = tint_of(colour);
   const LutTexels<F> fetch(t, bytes, lut);
   const int sb[2] = {16 - p.size_bits[0], 16 - p.size_bits[1]};  // floor(u W / 2^16) for W = 2^size_bits
   const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
+  ExactSteps steps(p);
+  int32_t uv[2];
+  if (nearest && repeat) {  // wrapping is a mask (wrap_as<Repeat>)
+    const int32_t mu = int32_t(t.width) - 1, mv = int32_t(t.height) - 1;
+    for (int32_t k = 0; k < count; ++k) {
+      const SampleRun run = run_at(k);
+      steps.start(p, run.x, run.y);
+      for (int32_t i = 0; i < run.n; ++i) {
+        steps.next(uv);
+        const Pixel texel = fetch((uv[0] >> sb[0]) & mu, (uv[1] >> sb[1]) & mv);
+        *out++ = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
+      }
+    }
+    return;
+  }
+  if (nearest) {
+    for (int32_t k = 0; k < count; ++k) {
+      const SampleRun run = run_at(k);
+      steps.start(p, run.x, run.y);
+      for (int32_t i = 0; i < run.n; ++i) {
+        steps.next(uv);
+        const Pixel texel = fetch(wrap(uv[0] >> sb[0], t.width, t.wrap_s), wrap(uv[1] >> sb[1], t.height, t.wrap_t));
+        *out++ = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
+      }
+    }
+    return;
+  }
+  if (lut && lut_colour == 0xFFFFFF) {  // bilinear: the filter of the texels, then the product, as sample_texture
+    const Tint tint = tint_of(colour);
+    for (int32_t k = 0; k < count; ++k) {
+      const SampleRun run = run_at(k);
+      steps.start(p, run.x, run.y);
+      if (repeat)
+        for (int32_t i = 0; i < run.n; ++i) steps.next(uv), *out++ = bilinear_tinted<true>(t, uv[0], uv[1], fetch, tint);
+      else
+        for (int32_t i = 0; i < run.n; ++i) steps.next(uv), *out++ = bilinear_tinted<false>(t, uv[0], uv[1], fetch, tint);
+    }
+    return;
+  }
   for (int32_t k = 0; k < count; ++k) {
     const SampleRun run = run_at(k);
-    for (int32_t at = 0; at < run.n; at += kExactChunk) {
-      const int32_t m = min_of(kExactChunk, run.n - at);
-      exact_texture_row(p, run.x + at, run.y, m, uv);
-      if (nearest && repeat) {  // wrapping is a mask (wrap_as<Repeat>)
-        const int32_t mu = int32_t(t.width) - 1, mv = int32_t(t.height) - 1;
-        for (int32_t i = 0; i < m; ++i) {
-          const Pixel texel = fetch((uv[i][0] >> sb[0]) & mu, (uv[i][1] >> sb[1]) & mv);
-          *out++ = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
-        }
-        continue;
-      }
-      if (nearest) {
-        for (int32_t i = 0; i < m; ++i) {
-          const Pixel texel =
-              fetch(wrap(uv[i][0] >> sb[0], t.width, t.wrap_s), wrap(uv[i][1] >> sb[1], t.height, t.wrap_t));
-          *out++ = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
-        }
-        continue;
-      }
-      if (filter_white) {  // bilinear: the filter of the texels, then the product, as sample_texture
-        if (repeat)
-          for (int32_t i = 0; i < m; ++i) *out++ = bilinear_tinted<true>(t, uv[i][0], uv[i][1], fetch, tint);
-        else
-          for (int32_t i = 0; i < m; ++i) *out++ = bilinear_tinted<false>(t, uv[i][0], uv[i][1], fetch, tint);
-        continue;
-      }
-      for (int32_t i = 0; i < m; ++i)
-        *out++ = lut ? sample_texture(t, bytes, lut, lut_colour, uv[i], colour, true)
-                     : textured_colour(t, bytes, uv[i], colour, true);
+    steps.start(p, run.x, run.y);
+    for (int32_t i = 0; i < run.n; ++i) {
+      steps.next(uv);
+      *out++ = lut ? sample_texture(t, bytes, lut, lut_colour, uv, colour, true) : textured_colour(t, bytes, uv, colour, true);
     }
   }
 }
 
 // exact_runs for texture_rows' block of rows and texture_runs' runs, format F.
 template <TexelFormat F>
-void exact_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
+[[gnu::noinline]] void exact_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                 Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out) {
   exact_runs<F>(p, t, bytes, lut, lut_colour, colour, rows, [&](int32_t r) { return SampleRun{x, y + r, n}; }, out);
 }
 template <TexelFormat F>
-void exact_list(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
+[[gnu::noinline]] void exact_list(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                 Pixel colour, const SampleRun* runs, int32_t count, Pixel* out) {
   exact_runs<F>(p, t, bytes, lut, lut_colour, colour, count, [&](int32_t k) { return runs[k]; }, out);
 }

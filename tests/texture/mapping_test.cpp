@@ -136,8 +136,9 @@ TEST(TextureMapping, WholeSegmentTestImpliesTheBound) {
 }
 
 // exact_texture_uv's coordinates as mapping.h states them, written plainly: the e_i shifted by one
-// common shift to 28 bits, sum uv_i e_i / sum e_i floored (div_floor, the divisor made positive),
-// clamped to int32; vertex 0's coordinates when the shifted sum is 0. clean: as ExactUv's.
+// common shift to kTextureWeightBits bits, sum uv_i e_i / sum e_i floored (div_floor, the divisor
+// made positive), clamped to int32; vertex 0's coordinates when the shifted sum is 0. clean: as
+// ExactUv's.
 void reference_uv(const ml::TexturePlanes& p, int32_t x, int32_t y, int32_t out[2], bool* clean) {
   int64_t e[3], denom = 0;
   uint64_t largest = 0;
@@ -146,7 +147,7 @@ void reference_uv(const ml::TexturePlanes& p, int32_t x, int32_t y, int32_t out[
     denom += e[i];
     largest |= ml::magnitude(e[i]);
   }
-  const int shift = std::max(0, ml::bit_length(largest) - 28);
+  const int shift = std::max(0, ml::bit_length(largest) - ml::kTextureWeightBits);
   int64_t total = 0;
   for (int64_t& w : e) total += (w >>= shift);
   if (total == 0) {
@@ -166,10 +167,11 @@ void reference_uv(const ml::TexturePlanes& p, int32_t x, int32_t y, int32_t out[
   }
 }
 
-// The per-sample division (exact_texture_uv, and exact_texture_row stepping the planes) gives the
-// floored quotient of both coordinates, over random planes of every magnitude up to the 2^61 the
-// lattice allows and their edge cases: plane values at powers of two (the shift's steps), sums of
-// either sign and zero, quotients past int32 (clamped), coordinates at int32's ends.
+// The per-sample division (exact_texture_uv, the boards' exact_texture_uv_looped, and
+// exact_texture_row stepping the planes) gives the floored quotient of both coordinates, over random
+// planes of every magnitude up to the 2^61 the lattice allows and their edge cases: plane values at
+// powers of two (the shift's steps), sums of either sign and zero, quotients past int32 (clamped),
+// coordinates at int32's ends.
 TEST(TextureMapping, ExactDivisionIsTheFlooredQuotient) {
   std::mt19937_64 rng(20261201);
   const auto any = [&](int bits) {  // uniform in (-2^bits, 2^bits)
@@ -206,11 +208,16 @@ TEST(TextureMapping, ExactDivisionIsTheFlooredQuotient) {
       int32_t want[2];
       bool clean;
       reference_uv(p, x + j, y, want, &clean);
-      ml::ExactUv got;
+      ml::ExactUv got, looped;
       ml::exact_texture_uv(p, x + j, y, &got);
+      ml::exact_texture_uv_looped(p, x + j, y, &looped);
       ASSERT_EQ(got.uv[0], want[0]) << "case " << n << " sample " << j;
       ASSERT_EQ(got.uv[1], want[1]) << "case " << n << " sample " << j;
       ASSERT_EQ(got.clean, clean) << "case " << n << " sample " << j;
+      ASSERT_EQ(looped.uv[0], want[0]) << "case " << n << " sample " << j;
+      ASSERT_EQ(looped.uv[1], want[1]) << "case " << n << " sample " << j;
+      ASSERT_EQ(looped.clean, clean) << "case " << n << " sample " << j;
+      ASSERT_EQ(looped.denom, got.denom) << "case " << n << " sample " << j;
       ASSERT_EQ(row[j][0], want[0]) << "case " << n << " sample " << j;
       ASSERT_EQ(row[j][1], want[1]) << "case " << n << " sample " << j;
       const int64_t denom = p.a[0] * (x + j) + p.b[0] * y + p.k[0] + p.a[1] * (x + j) + p.b[1] * y + p.k[1] +
