@@ -50,7 +50,8 @@ std::string stats_json(const ml::Stats& s, const RunInfo& run) {
     << ",\"cells_visited_per_pixel\":" << number(pixels > 0 ? double(s.cells_visited) / pixels : 0.0)
     << ",\"triangles_tiled\":" << s.triangles_tiled << ",\"bsp_nodes\":" << s.bsp_nodes
     << ",\"bsp_pieces\":" << s.bsp_pieces << ",\"bsp_split_ratio\":" << number(run.bsp_split_ratio)
-    << ",\"pyramid_bytes\":" << s.pyramid_bytes << ",\"bsp_subtrees_culled\":" << s.bsp_subtrees_culled << ",\"n\":" << s.n << ",\"m_max\":" << s.m_max
+    << ",\"pyramid_bytes\":" << s.pyramid_bytes << ",\"bsp_subtrees_culled\":" << s.bsp_subtrees_culled
+    << ",\"texture_planes_reused\":" << s.texture_planes_reused << ",\"n\":" << s.n << ",\"m_max\":" << s.m_max
     << ",\"geometry_samples\":" << s.geometry_samples << ",\"sort_instructions\":" << s.sort_instructions
     << ",\"texture_loads\":" << s.texture_loads << ",\"texture_reloads\":" << s.texture_reloads
     << ",\"texture_evictions\":" << s.texture_evictions << ",\"texture_fallbacks\":" << s.texture_fallbacks

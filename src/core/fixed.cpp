@@ -2,7 +2,8 @@
 
 namespace ml {
 
-#if UINTPTR_MAX == 0xFFFFFFFFu  // 32-bit boards: no 64-bit divide (an M0+ none at all, nor clz)
+// Both roots are built for every target, so the host tests run the boards' too (fixed.h selects one;
+// on the boards the linker drops the other, --gc-sections).
 
 namespace {
 
@@ -22,27 +23,6 @@ uint32_t isqrt32(uint32_t v) {
   return result;
 }
 
-}  // namespace
-
-// A bit-by-bit root in 64-bit arithmetic costs about 32 steps of 64-bit operations (some 650
-// instructions on a Cortex-M3, on every shaded triangle). Here: r0 = the 32-bit root of v's top 30
-// to 32 bits, scaled back (r0 <= sqrt(v), relative error below 2^-14); one Newton step
-// r1 = (r0 + v / r0) / 2 is never below floor(sqrt(v)) (integer Newton from any positive start) and
-// at most a few units above it (the error squares); then r1 is stepped down to the floor.
-uint64_t isqrt64(uint64_t v) {
-  if (v <= 0xFFFFFFFFu) return isqrt32(uint32_t(v));
-  const int s = (bit_length(v) - 31) & ~1;                   // even; v >> s has 31 or 32 bits
-  const uint64_t r0 = uint64_t(isqrt32(uint32_t(v >> s))) << (s / 2);  // in [2^15, 2^32)
-  uint64_t r1 = (r0 + udiv64(v, r0)) / 2;
-  if (r1 > 0xFFFFFFFFu) r1 = 0xFFFFFFFFu;  // floor(sqrt(v)) < 2^32, and r1^2 must not overflow
-  while (r1 * r1 > v) --r1;
-  return r1;
-}
-
-#else  // 64-bit hosts: a 64-bit divide is one instruction
-
-namespace {
-
 // ceil(16 sqrt(t + 1)) for t = 0..63: 16 times an upper bound of the root of any number whose top
 // bits are t.
 constexpr uint8_t kRootCeil16[64] = {16,  23,  28,  32,  36,  40,  43,  46,  48,  51,  54,  56,  58,
@@ -53,12 +33,29 @@ constexpr uint8_t kRootCeil16[64] = {16,  23,  28,  32,  36,  40,  43,  46,  48,
 
 }  // namespace
 
-// Integer Newton from above: from any r >= floor(sqrt(v)), r' = (r + v / r) / 2 falls strictly until
-// it reaches floor(sqrt(v)), where it stops falling. The start is v's top 5 or 6 bits' root rounded up
-// (a table), at most about 5 % high, so four or five steps (each a divide, an add and a shift) replace
-// the 16 of a bit-by-bit 32-bit root and a Newton step (some 150 instructions a call, on every shaded
-// triangle).
-uint64_t isqrt64(uint64_t v) {
+// The boards' root (no 64-bit divide instruction): a bit-by-bit root in 64-bit arithmetic costs about
+// 32 steps of 64-bit operations (some 650 instructions on a Cortex-M3, on every shaded triangle).
+// Here: r0 = the 32-bit root of v's top 30 to 32 bits, scaled back (r0 <= sqrt(v), relative error
+// below 2^-14); one Newton step r1 = (r0 + v / r0) / 2 (r0 < 2^32: one udiv_64_32) is never below
+// floor(sqrt(v)) (integer Newton from any positive start) and at most a few units above it (the
+// error squares); then r1 is stepped down to the floor.
+uint64_t isqrt64_root32(uint64_t v) {
+  if (v <= 0xFFFFFFFFu) return isqrt32(uint32_t(v));
+  const int s = (bit_length(v) - 31) & ~1;                   // even; v >> s has 31 or 32 bits
+  const uint32_t r0 = isqrt32(uint32_t(v >> s)) << (s / 2);  // in [2^15, 2^32)
+  uint32_t remainder;
+  uint64_t r1 = (r0 + udiv_64_32(v, r0, &remainder)) / 2;
+  if (r1 > 0xFFFFFFFFu) r1 = 0xFFFFFFFFu;  // floor(sqrt(v)) < 2^32, and r1^2 must not overflow
+  while (r1 * r1 > v) --r1;
+  return r1;
+}
+
+// The 64-bit hosts' root (a 64-bit divide is one instruction). Integer Newton from above: from any
+// r >= floor(sqrt(v)), r' = (r + v / r) / 2 falls strictly until it reaches floor(sqrt(v)), where it
+// stops falling. The start is v's top 5 or 6 bits' root rounded up (a table), at most about 5 % high,
+// so four or five steps (each a divide, an add and a shift) replace the 16 of a bit-by-bit 32-bit
+// root and a Newton step (some 150 instructions a call, on every shaded triangle).
+uint64_t isqrt64_newton(uint64_t v) {
   if (v < 2) return v;
   const int s = max_of(0, (bit_length(v) - 5) & ~1);  // even; v >> s < 64
   // sqrt(v) < sqrt((v >> s) + 1) 2^(s/2): rounded up, at most 2^32 (v < 2^64), so r + v / r < 2^34.
@@ -69,8 +66,6 @@ uint64_t isqrt64(uint64_t v) {
     r = next;
   }
 }
-
-#endif
 
 bool normalize_q30(const Vec3i& v, Vec3i* out) {
   // Bring the vector to about 2^20 per component so the squared length fits comfortably and

@@ -173,9 +173,19 @@ inline int64_t div_floor(int64_t n, int64_t d) {
 // Reciprocal 2^bits / d rounded, for d > 0, bits <= 62.
 inline int64_t reciprocal(int64_t d, int bits) { return div_round(int64_t(1) << bits, d); }
 
-// floor(sqrt(v)) for any uint64, exact, no float (fixed.cpp): on 64-bit hosts Newton steps from a
-// table's start; on 32-bit boards a 32-bit root of v's top bits, one Newton step and a correction.
-uint64_t isqrt64(uint64_t v);
+// floor(sqrt(v)) for any uint64, exact, no float (fixed.cpp), two ways that give the same roots:
+// isqrt64_newton, Newton steps from a table's start (64-bit divides), and isqrt64_root32, a 32-bit
+// root of v's top bits, one Newton step and a correction (32-bit divides). Both are built everywhere,
+// so the host tests both; isqrt64 is the 64-bit hosts' newton and the 32-bit boards' root32.
+uint64_t isqrt64_newton(uint64_t v);
+uint64_t isqrt64_root32(uint64_t v);
+inline uint64_t isqrt64(uint64_t v) {
+#if UINTPTR_MAX == 0xFFFFFFFFu
+  return isqrt64_root32(v);
+#else
+  return isqrt64_newton(v);
+#endif
+}
 
 // Number of significant bits of v (0 for v == 0).
 inline int bit_length(uint64_t v) { return v ? 64 - __builtin_clzll(v) : 0; }

@@ -282,6 +282,7 @@ class BandWriter : public CoverageWriter {
   [[gnu::noinline]] TexturePlanes& make_texture_planes() {  // once a piece, off the per-block paths
     if (const TexturePlanes* kept = plane_cache_->find(triangle_)) {  // made in an earlier band
       texture_planes_ = *kept;
+      ++stats_->texture_planes_reused;
     } else {
       triangle_texture_planes(*scene_, *view_, triangle_, texture_, 1, kSubpixelHalf, kSubpixelHalf,
                               &texture_planes_, whole_view_);
@@ -615,11 +616,13 @@ struct BandRows {
     box->max_y = min_of(poly.max_y - first, count - 1);
     return true;
   }
+  // Moves a screen-space edge into the band's rows.
+  void to_band(EdgeFunction* e) const { e->c += e->b * (int64_t(top) * kSubpixelOne); }
   // Moves a screen-space polygon (box in samples) into the band; false when it has no row there.
   bool clip(ConvexPoly* poly) const {
     ConvexPoly box;
     if (!clip_box(*poly, &box)) return false;
-    for (int i = 0; i < poly->n; ++i) poly->edge[i].c += poly->edge[i].b * (int64_t(top) * kSubpixelOne);
+    for (int i = 0; i < poly->n; ++i) to_band(&poly->edge[i]);
     poly->min_x = box.min_x;
     poly->max_x = box.max_x;
     poly->min_y = box.min_y;
@@ -902,8 +905,10 @@ class NodeRects {
 
 #if UINTPTR_MAX > 0xFFFFFFFFu
 #define ML_HOST_INLINE [[gnu::always_inline]]
+#define ML_HOST_NOINLINE [[gnu::noinline]]
 #else
 #define ML_HOST_INLINE
+#define ML_HOST_NOINLINE
 #endif
 
 // The vertex cache (view/vertex_cache.h) is a 64-bit host's, like the plan's extras: on the boards
@@ -937,10 +942,19 @@ class TilerFrame {
   // 2CylinderEngine's 102 M at 320x240); on the boards the compiler's own choice is smaller and faster
   // (forced inline: m0plus 19.69 M -> 19.78 M a frame, 124 bytes more code).
   ML_HOST_INLINE bool draw_piece(uint32_t index, uint16_t entry);
-  // A split piece's part clipped to its whole triangle; the triangle its colour planes take.
-  const ScreenTriangle* clip_to_whole(const Triangle& tri, const Vec3i* whole_world, int facing,
+  // A split piece's part (of n) clipped to its whole triangle; the triangle its colour planes take, or
+  // null when it is to be tiled in the whole triangle's parts (tile_in_whole_parts). Out of line on
+  // 64-bit hosts: the walk's loop keeps its registers (2CylinderEngine 320x240 flat 91.65 M inline,
+  // 91.35 M so); the boards' compiler chooses.
+  ML_HOST_NOINLINE const ScreenTriangle* clip_to_whole(const Triangle& tri, const Vec3i* whole_world, int facing, int n,
                                       const ScreenTriangle& part, ViewTriangle* whole_view,
-                                      ScreenTriangle whole_parts[kMaxClipTriangles], ConvexPoly* poly);
+                                      ScreenTriangle whole_parts[kMaxClipTriangles], int* whole_n, ConvexPoly* poly);
+  // A split piece's part whose whole triangle projects in several parts, tiled in each with its colour
+  // planes; false when the sink refused a write.
+  // Out of line and optimized for size: rare (triangles the near plane or the guard band cuts), off
+  // the walk's loop (m0plus: 292 bytes, 338 at -O2; that image is within 120 bytes of its budget).
+  [[gnu::noinline, gnu::optimize("Os")]] bool tile_in_whole_parts(ConvexPoly* poly, const ScreenTriangle* whole_parts, int count,
+                                             const Vec3i* world);
   // The rows rendered at once: the most whole bands whose extra arena bytes (tiler_render_rows_bytes)
   // `spare` holds and, with paged textures, whose planned texture residency (TexturePlan::band_peak)
   // is no more than a band at a time's; the pieces' per-band work (the walk, subtree tests, plan
@@ -1293,24 +1307,64 @@ void TilerFrame::part_box(const ScreenTriangle& part, ConvexPoly* poly) const {
   triangle_sample_box(part, band_.factor, camera_.width, camera_.height, jittered(options_), poly);
 }
 
-// A split piece's part clipped to its whole triangle's edges (Frame step 4, docs/tiler.md). The whole
-// triangle is transformed from whole_world, or from the vertex cache when that is null; its view is
-// the one the piece's texture planes take. Returns the triangle the part's colour planes are made on:
-// the whole triangle's screen triangle when it projects unclipped (the piece's own corners are split
-// points, not the vertices whose colours shade_triangle gives), else the part itself.
-const ScreenTriangle* TilerFrame::clip_to_whole(const Triangle& tri, const Vec3i* whole_world, int facing,
+// A split piece's part clipped to its whole triangle's edges (Frame step 4, docs/tiler.md), when the
+// piece is one part and the triangle projects unclipped. The whole triangle is transformed from
+// whole_world, or from the vertex cache when that is null, and projected once a piece (*whole_n, -1
+// until then); its view is the one the piece's texture planes take. Returns the triangle the part's
+// colour planes are made on (the piece's own corners are split points, not the vertices whose colours
+// shade_triangle gives): the whole triangle's screen triangle when it projects unclipped; null for
+// Gouraud colours when it projects in several parts; the part itself when it projects in none.
+const ScreenTriangle* TilerFrame::clip_to_whole(const Triangle& tri, const Vec3i* whole_world, int facing, int n,
                                                 const ScreenTriangle& part, ViewTriangle* whole_view,
-                                                ScreenTriangle whole_parts[kMaxClipTriangles], ConvexPoly* poly) {
-  if (!kVertexCache || whole_world) view_triangle(view_, whole_world, whole_view);
-  else vertices_.view(tri.batch, tri.v, whole_view);
-  writer_->use_whole_view(whole_view);
-  if (project_triangle(view_, *whole_view, facing, whole_parts, false) != 1) return &part;
-  const int f = band_.factor;
-  ConvexPoly whole_poly;
-  part_box(whole_parts[0], &whole_poly);
-  poly_edges(whole_parts[0], &whole_poly);
-  clip_to_triangle(view_, part, whole_poly, f, camera_.width * f, camera_.height * f, poly);
+                                                ScreenTriangle whole_parts[kMaxClipTriangles], int* whole_n,
+                                                ConvexPoly* poly) {
+  if (*whole_n < 0) {
+    if (!kVertexCache || whole_world) view_triangle(view_, whole_world, whole_view);
+    else vertices_.view(tri.batch, tri.v, whole_view);
+    writer_->use_whole_view(whole_view);
+    *whole_n = project_triangle(view_, *whole_view, facing, whole_parts, false);
+  }
+  if (*whole_n > 1) return options_.shading == ShadingMode::Gouraud ? nullptr : &part;
+  if (*whole_n == 0) return &part;
+  if (n == 1) {
+    const int f = band_.factor;
+    ConvexPoly whole_poly;
+    part_box(whole_parts[0], &whole_poly);
+    poly_edges(whole_parts[0], &whole_poly);
+    clip_to_triangle(view_, part, whole_poly, f, camera_.width * f, camera_.height * f, poly);
+  }
   return &whole_parts[0];
+}
+
+// A split piece whose whole triangle the near plane (or the guard band) cut: the triangle's parts each
+// have colour planes of their own (their corners' colours blend the vertex colours by the corners'
+// weights), as the scanline renderer draws them. The piece's part is tiled in each whole part (its
+// edges and the whole part's), with that part's planes, then as it is, with the first part's planes:
+// the samples of the piece outside its whole triangle's parts (split points are quantized, so the
+// piece may stray from the triangle by a fraction of a subpixel) are covered as before, only their
+// colour extrapolated (the pyramid takes every sample once).
+// poly: the piece's part in the band (BandRows::clip); each whole part's edges are added after the
+// piece's own and taken off again.
+bool TilerFrame::tile_in_whole_parts(ConvexPoly* poly, const ScreenTriangle* whole_parts, int count,
+                                     const Vec3i* world) {
+  const int own = poly->n;
+  for (int j = 0; j <= count; ++j) {
+    poly->n = own;
+    if (j < count && own + 3 <= kMaxPolyEdges) {
+      ConvexPoly edges;
+      poly_edges(whole_parts[j], &edges);
+      for (int k = 0; k < 3; ++k) {
+        EdgeFunction& e = poly->edge[poly->n++];
+        e = edges.edge[k];
+        band_.to_band(&e);  // as the piece's edges (BandRows::clip)
+      }
+    }
+    ++st_->triangles_tiled;
+    writer_->begin_part(&whole_parts[j < count ? j : 0], world);
+    if (tiler_.tile(*poly, *writer_) == TileResult::Failed) return false;
+  }
+  poly->n = own;
+  return true;
 }
 
 inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
@@ -1377,6 +1431,7 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
   writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0, split ? nullptr : &view);
   ViewTriangle whole_view;  // a split piece's whole triangle, when projected below (its texture planes take it too)
   ScreenTriangle whole_parts[kMaxClipTriangles];  // and its projection (valid while the part is tiled)
+  int whole_n = -1;  // its parts, once projected
   for (int i = 0; i < n; ++i) {
     ConvexPoly poly;
     part_box(parts[i], &poly);
@@ -1385,13 +1440,16 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
     // A split piece's box is tested before its edges are made: most such boxes the walk reaches are
     // hidden (pieces behind what is drawn, near where the BSP cut them), and need neither the whole
     // triangle's edges nor tiling.
-    const bool whole_clip = n == 1 && split;
-    if (whole_clip && !tiler_.box_visible(box)) continue;
+    if (split && n == 1 && !tiler_.box_visible(box)) continue;
     poly_edges(parts[i], &poly);
     const ScreenTriangle* colour_part =
-        whole_clip ? clip_to_whole(tri, cached ? nullptr : whole(), facing, parts[0], &whole_view, whole_parts, &poly)
-                   : &parts[i];
+        split ? clip_to_whole(tri, cached ? nullptr : whole(), facing, n, parts[i], &whole_view, whole_parts, &whole_n, &poly)
+              : &parts[i];
     if (!band_.clip(&poly)) continue;
+    if (!colour_part) {
+      if (!tile_in_whole_parts(&poly, whole_parts, whole_n, have_whole ? whole_world : nullptr)) return false;
+      continue;
+    }
     ++st_->triangles_tiled;
     writer_->begin_part(colour_part, have_whole ? whole_world : nullptr);
     if (tiler_.tile(poly, *writer_) == TileResult::Failed)

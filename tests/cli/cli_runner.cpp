@@ -41,13 +41,18 @@ std::string RunResult::describe() const {
   return s + "; stderr: [" + err.substr(0, 2000) + "]";
 }
 
-std::string cli_path() {
-  if (const char* env = getenv("MASKLINE_CLI")) return env;
+std::string beside_test_binary(const std::string& name) {
   char buf[PATH_MAX];
   const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
-  if (n <= 0) return "maskline";
-  std::string self(buf, size_t(n));
-  return self.substr(0, self.find_last_of('/') + 1) + "maskline";
+  if (n <= 0) return "";
+  const std::string self(buf, size_t(n));
+  return self.substr(0, self.find_last_of('/') + 1) + name;
+}
+
+std::string cli_path() {
+  if (const char* env = getenv("MASKLINE_CLI")) return env;
+  const std::string beside = beside_test_binary("maskline");
+  return beside.empty() ? "maskline" : beside;
 }
 
 RunResult run_cli(const std::vector<std::string>& args, int timeout_seconds) {

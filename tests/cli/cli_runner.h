@@ -20,6 +20,9 @@ struct RunResult {
   std::string describe() const;  // for failure messages
 };
 
+// Path of `name` relative to this test binary's directory ("" when /proc/self/exe cannot be read).
+std::string beside_test_binary(const std::string& name);
+
 // Path of the CLI: $MASKLINE_CLI, else "maskline" next to this test binary.
 std::string cli_path();
 

@@ -13,11 +13,25 @@ namespace {
 
 using ml::Vec3i;
 
-TEST(FixedIsqrt, MatchesFloorSqrtOnRandomAndExtremeInputs) {
+// The reference: floor(sqrt(v)) bit by bit in 128-bit arithmetic (no shortcut either root takes).
+uint64_t reference_isqrt(uint64_t v) {
+  uint64_t r = 0;
+  for (int b = 31; b >= 0; --b) {
+    const unsigned __int128 t = r | (uint64_t(1) << b);
+    if (t * t <= v) r = uint64_t(t);
+  }
+  return r;
+}
+
+// Both roots (the hosts' Newton steps and the boards' 32-bit root, fixed.h) give the reference's root
+// on edge cases, every power of two and square with their neighbours, and a large random sample of
+// every bit length; isqrt64 is one of them.
+TEST(FixedIsqrt, BothRootsMatchFloorSqrtOnRandomAndExtremeInputs) {
   std::mt19937_64 rng(7);
   std::vector<uint64_t> inputs = {0, 1, 2, 3, 4, 15, 16, 17, UINT64_MAX, UINT64_MAX - 1,
-                                  uint64_t(1) << 62, (uint64_t(1) << 62) - 1, uint64_t(4294967295u) * 4294967295u};
-  for (int i = 0; i < 400000; ++i) inputs.push_back(rng() >> (rng() % 64));
+                                  uint64_t(1) << 62, (uint64_t(1) << 62) - 1, uint64_t(4294967295u) * 4294967295u,
+                                  0xFFFFFFFFu, uint64_t(0xFFFFFFFFu) + 1, uint64_t(0xFFFFFFFFu) + 2};
+  for (int i = 0; i < 1000000; ++i) inputs.push_back(rng() >> (rng() % 64));
   for (uint64_t r = 1; r < 100000; r += 97) { inputs.push_back(r * r); inputs.push_back(r * r - 1); }
   // Every power of two and its neighbours; squares and their neighbours at every root bit length
   // (where a Newton start or a stopping test would be off by one), up to the largest root 2^32 - 1.
@@ -32,12 +46,20 @@ TEST(FixedIsqrt, MatchesFloorSqrtOnRandomAndExtremeInputs) {
     }
   for (uint64_t i = 0; i < 5000; ++i) inputs.push_back(UINT64_MAX - i);
   for (uint64_t v : inputs) {
-    const uint64_t s = ml::isqrt64(v);
-    // floor(sqrt(v)): s^2 <= v < (s+1)^2, checked without overflow in long double-free integer math.
-    ASSERT_LE(s, 4294967295u) << v;
-    ASSERT_LE(s * s, v) << v;
-    const unsigned __int128 next = (unsigned __int128)(s + 1) * (s + 1);
-    ASSERT_GT(next, (unsigned __int128)v) << v;
+    const uint64_t want = reference_isqrt(v);
+    ASSERT_EQ(ml::isqrt64_newton(v), want) << v;
+    ASSERT_EQ(ml::isqrt64_root32(v), want) << v;
+    ASSERT_EQ(ml::isqrt64(v), want) << v;
+  }
+}
+
+TEST(FixedIsqrt, ReferenceIsFloorSqrt) {
+  // The reference itself: r^2 <= v < (r + 1)^2 at the ends and across the range.
+  for (uint64_t v : {uint64_t(0), uint64_t(1), uint64_t(2), uint64_t(24), uint64_t(25), UINT64_MAX,
+                     uint64_t(1) << 63, uint64_t(0xFFFFFFFEu) * 0xFFFFFFFEu}) {
+    const unsigned __int128 r = reference_isqrt(v);
+    EXPECT_LE(r * r, v);
+    EXPECT_GT((r + 1) * (r + 1), v);
   }
 }
 

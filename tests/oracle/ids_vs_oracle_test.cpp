@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <random>
 #include <string>
@@ -16,6 +17,7 @@
 #include "tests/common/engine_scene.h"
 #include "tests/oracle/oracle.h"
 #include "tests/oracle/scene_triangles.h"
+#include "tests/tiler/tiler_test_util.h"
 #include "tools/scenec/scenec.h"
 #include "view/view.h"
 
@@ -239,12 +241,14 @@ TEST(OracleRenderersAgree, DefaultEngineAndRandomScenes) {
 
 
 // Gouraud colours of split triangles: the tiler makes a split piece's colour planes on its whole
-// triangle's screen triangle (shade_triangle gives the triangle's vertex colours, not the split
-// points'), so where both renderers show the same triangle their colours agree within the planes'
-// rounding (one level), split pieces included.
-// Returns the pixels of split triangles compared.
-size_t check_gouraud_agrees(const ml::Scene& scene, const ml::Camera& camera) {
+// triangle's screen triangle, or on the part of it over each sample when the near plane or the guard
+// band cuts it (shade_triangle gives the triangle's vertex colours, not the split points'), so where
+// both renderers show the same triangle their colours agree within the planes' rounding (one level),
+// split pieces included.
+// Returns the pixels compared of the triangles `counted` marks (the split ones when not given).
+size_t check_gouraud_agrees(const ml::Scene& scene, const ml::Camera& camera, std::vector<bool> counted = {}) {
   const std::vector<bool> split = split_triangles(scene);
+  if (counted.empty()) counted = split;
   const testrender::Image t_ids = render_ids(scene, camera, ml::RendererKind::Tiler);
   const testrender::Image s_ids = render_ids(scene, camera, ml::RendererKind::Scanline);
   auto gouraud = [&](ml::RendererKind r) {
@@ -256,21 +260,80 @@ size_t check_gouraud_agrees(const ml::Scene& scene, const ml::Camera& camera) {
   const testrender::Image t = gouraud(ml::RendererKind::Tiler), s = gouraud(ml::RendererKind::Scanline);
   EXPECT_TRUE(t.ok && s.ok && t_ids.ok && s_ids.ok) << t.error << s.error;
   if (!(t.ok && s.ok && t_ids.ok && s_ids.ok)) return 0;
-  size_t split_pixels = 0, off = 0;
+  size_t counted_pixels = 0, off = 0;
+  int worst = 0;
   std::string first;
   for (size_t i = 0; i < t.pixels.size(); ++i) {
     const uint32_t id = t_ids.pixels[i];
     if (id == 0 || id != s_ids.pixels[i]) continue;
-    split_pixels += split[id - 1];
+    counted_pixels += counted[id - 1];
     int most = 0;
     for (int shift : {0, 8, 16})
       most = std::max(most, std::abs(int((t.pixels[i] >> shift) & 255) - int((s.pixels[i] >> shift) & 255)));
+    worst = std::max(worst, most);
     if (most > 1 && off++ == 0)
       first = "pixel " + std::to_string(i) + " (triangle " + std::to_string(id - 1) + (split[id - 1] ? ", split" : "") +
               "): tiler " + std::to_string(t.pixels[i]) + ", scanline " + std::to_string(s.pixels[i]);
   }
-  EXPECT_EQ(off, 0u) << "pixels more than one level apart; first: " << first;
-  return split_pixels;
+  EXPECT_EQ(off, 0u) << "pixels more than one level apart; first: " << first << "; most " << worst << " levels";
+  return counted_pixels;
+}
+
+// Triangles whose corners lie on both sides of the camera's near plane (view depth, src/view).
+std::vector<bool> near_clipped_triangles(const ml::Scene& scene, const ml::Camera& camera) {
+  std::vector<bool> crossing(scene.triangle_count, false);
+  ml::View view;
+  if (!ml::make_view(camera, &view).ok()) return crossing;
+  for (uint32_t t = 0; t < scene.triangle_count; ++t) {
+    ml::Vec3i world[3];
+    ml::triangle_world(scene, t, world);
+    int behind = 0;
+    for (const ml::Vec3i& w : world) {
+      ml::ViewVertex v;
+      ml::view_vertex(view, w, &v);
+      behind += v.p.z < view.near;
+    }
+    crossing[t] = behind == 1 || behind == 2;
+  }
+  return crossing;
+}
+
+// crossing_mesh's triangles (corners anywhere in a cube, so the BSP splits many), each corner with a
+// normal of its own so that Gouraud colours vary over every triangle; compiled and loaded.
+bool load_crossing_scene(uint32_t seed, int count, mlhost::LoadedScene* s) {
+  ml::SceneMesh mesh = tiler_test::crossing_mesh(seed, count);
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g(0, 1);
+  for (ml::MeshPrimitive& prim : mesh.nodes[0].primitives)
+    for (ml::MeshVertex& v : prim.vertices) {
+      double n[3] = {g(rng), g(rng), g(rng)};
+      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      for (int k = 0; k < 3; ++k) v.normal[k] = n[k] / len;
+    }
+  std::string error;
+  const ml::CompileResult c = ml::compile_mesh(mesh);
+  if (c.ok && mlhost::adopt_compiled(c, "crossing", s, &error)) return true;
+  ADD_FAILURE() << "crossing scene " << seed << ": " << (c.ok ? error : c.error);
+  return false;
+}
+
+// Split triangles the near plane cuts, seen from inside scenes of crossing triangles: the tiler's
+// pieces of them have split points for corners, and their triangle projects in several parts; where
+// both renderers show such a triangle their colours agree as elsewhere.
+TEST(OracleRenderersAgree, GouraudColoursOfNearClippedSplitTriangles) {
+  size_t near_split_pixels = 0;
+  for (uint32_t seed = 1; seed <= 6; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    mlhost::LoadedScene s;
+    ASSERT_TRUE(load_crossing_scene(seed, 24, &s));
+    const ml::Camera camera = inside_camera(s.scene, seed, 96, 72);
+    const std::vector<bool> split = split_triangles(s.scene), crossing = near_clipped_triangles(s.scene, camera);
+    std::vector<bool> both(split.size());
+    for (size_t t = 0; t < split.size(); ++t) both[t] = split[t] && crossing[t];
+
+    near_split_pixels += check_gouraud_agrees(s.scene, camera, both);
+  }
+  EXPECT_GT(near_split_pixels, 5000u) << "few near-clipped split triangles on screen: the test would hardly test them";
 }
 
 TEST(OracleRenderersAgree, GouraudColoursOfSplitTriangles) {

@@ -417,11 +417,15 @@ TEST(TextureRender, RenderersDecideAlikeWhichTrianglesAreSmall) {
 
 // The tiler's texture planes kept from band to band (arena bytes to spare, render_spare_bytes) give
 // the frame of the least arena: every textured scene in bands of a few rows, shaded each way, at
-// 160x120 and at 24x18 (every triangle small).
+// 160x120 and at 24x18 (every triangle small). The kept planes (texture_planes_reused) are never used
+// in the least arena (no room for them), and are used wherever the spare arena still has the frame
+// rendered in several passes of bands (its textures' residency, TexturePlan::band_peak: the
+// four-texture banded scene; the others go in one pass, with nothing to keep).
 TEST(TextureRender, TilerPlanesKeptAcrossBandsGiveTheSameFrame) {
   for (const std::string& path : textest::textured_scenes()) {
     const mlhost::LoadedScene& s = load(path);
     ASSERT_NE(s.scene.info, nullptr) << s.name;
+    uint64_t reused = 0, several_passes = 0;
     for (int frame = 0; frame < 4; ++frame) {
       const double turn = frame % 2 == 0 ? 0.0 : 25.0;
       const ml::Camera cam = frame < 2 ? textest::camera_for(s, 160, 120, turn) : textest::camera_for(s, 24, 18, turn);
@@ -436,7 +440,18 @@ TEST(TextureRender, TilerPlanesKeptAcrossBandsGiveTheSameFrame) {
         ASSERT_TRUE(kept.contract) << kept.contract_error;
         EXPECT_EQ(kept.pixels, plain.pixels) << path << " frame " << frame << " shading " << int(mode);
         EXPECT_EQ(kept.stats.texture_bytes_loaded, plain.stats.texture_bytes_loaded) << path;
+        EXPECT_EQ(plain.stats.texture_planes_reused, 0u) << path << ": planes kept without the arena for them";
+        if (kept.stats.render_bands > 1) {
+          ++several_passes;
+          reused += kept.stats.texture_planes_reused;
+        }
       }
+    }
+    if (several_passes > 0) {
+      EXPECT_GT(reused, 0u) << path << ": the kept texture planes were never used";
+    }
+    if (path == "builtin:banded") {
+      EXPECT_GT(several_passes, 0u) << "the banded scene is no longer rendered in several passes of bands";
     }
   }
 }
