@@ -21,7 +21,7 @@ int render_rows_for(const OutputOptions& output, int height, int render_rows) {
   const int rows = band_rows_for(output, height);
   if (render_rows <= rows) return rows;
   const int bands = (height + rows - 1) / rows;
-  const int wanted = (render_rows + rows - 1) / rows;
+  const int wanted = render_rows / rows + (render_rows % rows != 0);  // no overflow near INT_MAX
   return (wanted < bands ? wanted : bands) * rows;
 }
 
@@ -34,6 +34,7 @@ Status BandOutput::check(const OutputOptions& output) {
   if (output.buffers < 1 || output.buffers > kMaxBandBuffers)
     return error(StatusCode::InvalidArgument, "band buffers must be 1 or 2");
   if (output.band_rows < 0) return error(StatusCode::InvalidArgument, "band rows must not be negative");
+  if (output.render_rows < 0) return error(StatusCode::InvalidArgument, "render rows must not be negative");
   return ok_status();
 }
 

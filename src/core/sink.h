@@ -14,7 +14,9 @@
 // Buffer lending: the bytes of a flush belong to the sink from the flush() call until the sink calls
 // flush_ready(f.buffer): inside flush() (a synchronous sink: copy or send, then release) or later,
 // from a DMA-complete interrupt. The renderer renders the next band into the other buffer meanwhile
-// (two buffers when the arena allows) and writes into a lent buffer again only after its release;
+// (two buffers when the arena allows; the tiler rendering several bands at once into one buffer lends
+// them in place and renders nothing until all are back, core/band.h) and writes into a lent buffer
+// again only after its release;
 // while it waits it calls wait_for_flush(). render() returns only when no buffer is lent.
 #pragma once
 #include <stddef.h>

@@ -20,10 +20,11 @@ namespace ml {
 size_t render_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
 
 // Arena bytes beyond render_arena_bytes that make a frame faster when the arena has them free (the
-// tiler's band plan, its BSP subtrees' screen rectangles and textured triangles' planes,
-// tiler_plan_bytes; for a frame of one band
-// the plan's facing bits alone, which 32-bit boards do not keep: 0 there; and its vertex cache,
-// tiler_cache_bytes, 0 on 32-bit boards). Same image either way.
+// tiler's bands rendered at once, tiler_render_rows_bytes: the most OutputOptions::render_rows allows,
+// an upper bound for a frame whose textures keep it to fewer; the plan of the bands that leaves, its
+// BSP subtrees' screen rectangles and textured triangles' planes, tiler_plan_bytes; for a frame of
+// one band the plan's facing bits alone, which 32-bit boards do not keep: 0 there; and its vertex
+// cache, tiler_cache_bytes, 0 on 32-bit boards). Same image either way.
 size_t render_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
 
 Status render(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,

@@ -92,8 +92,8 @@ class RowSpans {
     *first = lo;
     *last = hi;
   }
-  // Whether the crossing edges are at most two left bounds and two right bounds (every triangle's,
-  // and most clipped parts'): rows() then steps them in registers, not through the arrays.
+  // Whether the crossing edges are at most two left bounds and two right bounds and no level one
+  // (most triangles' and clipped parts'): rows() then steps them in registers, not through the arrays.
   bool two_by_two() const { return lower_n_ <= 2 && upper_n_ <= 2 && level_n_ == 0; }
   // row() for rows 0..count-1 in turn, handing each row's span to emit(row, first, last) (none when
   // first > last). Only when two_by_two(); one loop for each count of left and right bounds.

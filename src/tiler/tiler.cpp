@@ -952,7 +952,7 @@ class TilerFrame {
   // A split piece's part whose whole triangle projects in several parts, tiled in each with its colour
   // planes; false when the sink refused a write.
   // Out of line and optimized for size: rare (triangles the near plane or the guard band cuts), off
-  // the walk's loop (m0plus: 292 bytes, 338 at -O2; that image is within 120 bytes of its budget).
+  // the walk's loop (m0plus: 292 bytes, 338 at -O2; that image is within a few hundred bytes of its budget).
   [[gnu::noinline, gnu::optimize("Os")]] bool tile_in_whole_parts(ConvexPoly* poly, const ScreenTriangle* whole_parts, int count,
                                              const Vec3i* world);
   // The rows rendered at once: the most whole bands whose extra arena bytes (tiler_render_rows_bytes)

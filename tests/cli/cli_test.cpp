@@ -201,10 +201,10 @@ TEST_F(CliTemp, ArenaTooSmallNamesTheBytesNeeded) {
   EXPECT_EQ(ok.exit_code, 0) << ok.describe();
 }
 
-// Without --arena the tiler gets its band plan's spare bytes (render_spare_bytes): its peak holds the
-// plan (a frame of one band: the triangles' facing bits alone), and the picture is the one the least
-// arena gives.
-TEST_F(CliTemp, DefaultArenaCarriesTheTilerBandPlanWithTheSameImage) {
+// Without --arena the tiler gets its spare bytes (render_spare_bytes): its peak holds them (on a 64-bit
+// host every band rendered at once, and the triangles' facing bits), and the picture is the one the
+// least arena gives.
+TEST_F(CliTemp, DefaultArenaCarriesTheTilerSpareBytesWithTheSameImage) {
   for (const char* rows : {"16", "0"}) {
     const std::vector<std::string> common{"render", "--size", "160x120", "--band-rows", rows, "--stats"};
     // The least arena, from the error a too small one gives.

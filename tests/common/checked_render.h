@@ -19,7 +19,8 @@ struct Image {
   std::vector<ml::Pixel> pixels;   // row-major; in Ids shading id + 1 (0 = background)
 };
 
-// spare: the arena holds render_spare_bytes more (the tiler then plans its bands once).
+// spare: the arena holds render_spare_bytes more (the tiler then renders its bands at once on a 64-bit
+// host, with the facing bits and the vertex cache).
 inline Image render_checked(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o,
                             bool spare = false) {
   Image out;

@@ -418,9 +418,10 @@ TEST(TextureRender, RenderersDecideAlikeWhichTrianglesAreSmall) {
 // The tiler's texture planes kept from band to band (arena bytes to spare, render_spare_bytes) give
 // the frame of the least arena: every textured scene in bands of a few rows, shaded each way, at
 // 160x120 and at 24x18 (every triangle small). The kept planes (texture_planes_reused) are never used
-// in the least arena (no room for them), and are used wherever the spare arena still has the frame
-// rendered in several passes of bands (its textures' residency, TexturePlan::band_peak: the
-// four-texture banded scene; the others go in one pass, with nothing to keep).
+// in the least arena (no room for them), and are used wherever the spare arena has the frame rendered
+// in several passes of bands: a band at a time (OutputOptions::render_rows), or by default where its
+// textures' residency keeps it to several (TexturePlan::band_peak: the four-texture banded scene; the
+// others go in one pass, with nothing to keep).
 TEST(TextureRender, TilerPlanesKeptAcrossBandsGiveTheSameFrame) {
   for (const std::string& path : textest::textured_scenes()) {
     const mlhost::LoadedScene& s = load(path);
@@ -445,6 +446,14 @@ TEST(TextureRender, TilerPlanesKeptAcrossBandsGiveTheSameFrame) {
           ++several_passes;
           reused += kept.stats.texture_planes_reused;
         }
+        // The spare bytes with a band at a time: every frame in several passes.
+        ml::RenderOptions apart = o;
+        apart.output.render_rows = o.output.band_rows;
+        const Frame kept_apart = textest::render(s.scene, cam, apart, least + ml::render_spare_bytes(s.scene, cam, apart));
+        ASSERT_TRUE(kept_apart.status.ok()) << path << ": " << kept_apart.status.message;
+        EXPECT_EQ(kept_apart.pixels, plain.pixels) << path << " frame " << frame << " shading " << int(mode);
+        ++several_passes;
+        reused += kept_apart.stats.texture_planes_reused;
       }
     }
     if (several_passes > 0) {
