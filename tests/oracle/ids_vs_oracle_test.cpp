@@ -13,6 +13,7 @@
 
 #include "platform/host/scene_load.h"
 #include "render/render.h"
+#include "tests/common/mesh_builder.h"
 #include "tests/common/checked_render.h"
 #include "tests/common/engine_scene.h"
 #include "tests/oracle/oracle.h"
@@ -93,27 +94,18 @@ ml::Camera framing(const ml::Scene& scene, int w, int h) {
 ml::CompileResult random_scene(uint32_t seed, int count) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> xy(-4, 4), in_slab(0, 0.8), unit(0, 1);
-  ml::SceneMesh mesh;
-  mesh.materials.resize(2);
-  mesh.materials[1].double_sided = true;
-  mesh.nodes.resize(1);
-  mesh.nodes[0].name = "random";
-  for (uint32_t m = 0; m < 2; ++m) {
-    ml::MeshPrimitive prim;
-    prim.material = m;
-    mesh.nodes[0].primitives.push_back(prim);
-  }
+  std::vector<ml::MeshMaterial> materials(2);
+  materials[1].double_sided = true;
+  ml::SceneMesh mesh = meshtest::one_node_mesh(std::move(materials), "random");
   for (int t = 0; t < count; ++t) {
-    ml::MeshPrimitive& prim = mesh.nodes[0].primitives[unit(rng) < 0.3 ? 1 : 0];
-    const uint32_t base = uint32_t(prim.vertices.size());
-    for (int k = 0; k < 3; ++k) {
-      ml::MeshVertex v;
-      v.position[0] = xy(rng);
-      v.position[1] = xy(rng);
-      v.position[2] = -(t + in_slab(rng)) * 1.0;
-      prim.vertices.push_back(v);
+    const size_t primitive = unit(rng) < 0.3 ? 1 : 0;
+    ml::MeshVertex v[3];
+    for (ml::MeshVertex& vertex : v) {
+      vertex.position[0] = xy(rng);
+      vertex.position[1] = xy(rng);
+      vertex.position[2] = -(t + in_slab(rng));
     }
-    prim.triangles.push_back({base, base + 1, base + 2});
+    meshtest::add_triangle(&mesh, primitive, v);
   }
   return ml::compile_mesh(mesh);
 }

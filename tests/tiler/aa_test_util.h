@@ -10,6 +10,7 @@
 
 #include "platform/host/scene_load.h"
 #include "render/render.h"
+#include "tests/common/mesh_builder.h"
 #include "tests/common/checked_render.h"
 #include "tests/oracle/oracle.h"
 #include "tests/oracle/scene_triangles.h"
@@ -48,29 +49,20 @@ inline ml::Camera framing(const ml::Scene& scene, int w, int h) {
 inline void random_scene(uint32_t seed, int count, mlhost::LoadedScene* out) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> xy(-4, 4), in_slab(0, 0.8), unit(0, 1);
-  ml::SceneMesh mesh;
-  mesh.nodes.resize(1);
-  mesh.nodes[0].name = "random";
+  std::vector<ml::MeshMaterial> materials(6);
   for (uint32_t m = 0; m < 6; ++m) {
-    ml::MeshMaterial mat;
-    for (int c = 0; c < 3; ++c) mat.base_color[c] = unit(rng);
-    mat.double_sided = m % 3 == 0;
-    mesh.materials.push_back(mat);
-    ml::MeshPrimitive prim;
-    prim.material = m;
-    mesh.nodes[0].primitives.push_back(prim);
+    for (int c = 0; c < 3; ++c) materials[m].base_color[c] = unit(rng);
+    materials[m].double_sided = m % 3 == 0;
   }
+  ml::SceneMesh mesh = meshtest::one_node_mesh(std::move(materials), "random");
   for (int t = 0; t < count; ++t) {
-    ml::MeshPrimitive& prim = mesh.nodes[0].primitives[size_t(t) % 6];
-    const uint32_t base = uint32_t(prim.vertices.size());
-    for (int k = 0; k < 3; ++k) {
-      ml::MeshVertex v;
-      v.position[0] = xy(rng);
-      v.position[1] = xy(rng);
-      v.position[2] = -(t + in_slab(rng));
-      prim.vertices.push_back(v);
+    ml::MeshVertex v[3];
+    for (ml::MeshVertex& vertex : v) {
+      vertex.position[0] = xy(rng);
+      vertex.position[1] = xy(rng);
+      vertex.position[2] = -(t + in_slab(rng));
     }
-    prim.triangles.push_back({base, base + 1, base + 2});
+    meshtest::add_triangle(&mesh, size_t(t) % 6, v);
   }
   std::string error;
   const ml::CompileResult c = ml::compile_mesh(mesh);

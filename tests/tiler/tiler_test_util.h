@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "tests/common/mesh_builder.h"
 #include "platform/host/image_sink.h"
 
 #include "core/sink.h"
@@ -395,26 +396,17 @@ inline std::vector<TestScene::Tri> random_scene(std::mt19937& rng, int count, in
 inline ml::SceneMesh crossing_mesh(uint32_t seed, int count) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> coord(-2, 2);
-  ml::SceneMesh mesh;
-  mesh.nodes.resize(1);
+  std::vector<ml::MeshMaterial> materials(2);
   for (uint32_t m = 0; m < 2; ++m) {
-    ml::MeshMaterial mat;
-    mat.base_color[0] = 0.2 + 0.6 * m;
-    mat.double_sided = m == 1;
-    mesh.materials.push_back(mat);
-    ml::MeshPrimitive prim;
-    prim.material = m;
-    mesh.nodes[0].primitives.push_back(prim);
+    materials[m].base_color[0] = 0.2 + 0.6 * m;
+    materials[m].double_sided = m == 1;
   }
+  ml::SceneMesh mesh = meshtest::one_node_mesh(std::move(materials));
   for (int t = 0; t < count; ++t) {
-    ml::MeshPrimitive& prim = mesh.nodes[0].primitives[size_t(t) % 2];
-    const uint32_t base = uint32_t(prim.vertices.size());
-    for (int k = 0; k < 3; ++k) {
-      ml::MeshVertex v;
-      for (double& c : v.position) c = coord(rng);
-      prim.vertices.push_back(v);
-    }
-    prim.triangles.push_back({base, base + 1, base + 2});
+    ml::MeshVertex v[3];
+    for (ml::MeshVertex& vertex : v)
+      for (double& c : vertex.position) c = coord(rng);
+    meshtest::add_triangle(&mesh, size_t(t) % 2, v);
   }
   return mesh;
 }
