@@ -32,6 +32,14 @@ struct ConvexPoly {
   int32_t min_x = 0, min_y = 0, max_x = -1, max_y = -1;
 };
 
+// Copies a polygon's box alone (its edges untouched).
+inline void copy_box(const ConvexPoly& from, ConvexPoly* to) {
+  to->min_x = from.min_x;
+  to->min_y = from.min_y;
+  to->max_x = from.max_x;
+  to->max_y = from.max_y;
+}
+
 // One-sample-per-pixel polygon of a set-up triangle.
 void poly_from_setup(const TriangleSetup& setup, ConvexPoly* out);
 

@@ -623,10 +623,7 @@ struct BandRows {
     ConvexPoly box;
     if (!clip_box(*poly, &box)) return false;
     for (int i = 0; i < poly->n; ++i) to_band(&poly->edge[i]);
-    poly->min_x = box.min_x;
-    poly->max_x = box.max_x;
-    poly->min_y = box.min_y;
-    poly->max_y = box.max_y;
+    copy_box(box, poly);
     return true;
   }
 };
@@ -963,6 +960,9 @@ class TilerFrame {
   int rows_at_once(size_t spare) const;
   // The plan entry of a piece facing the eye, from its view-space vertices.
   uint16_t plan_bands(const ViewTriangle& view) const;
+  // The sample box (part_box's) of a piece that projects unclipped, from its view-space vertices; false
+  // when it holds no sample of the screen, so that the piece can be dropped before it is projected.
+  bool unclipped_sample_box(const ViewTriangle& view, ConvexPoly* box) const;
   // The box of the samples a projected part can cover (no edges yet).
   void part_box(const ScreenTriangle& part, ConvexPoly* poly) const;
   // Plans each texture's rows from the textured triangles' projected extent, and its first and last
@@ -1275,22 +1275,28 @@ bool TilerFrame::subtree_hidden(uint32_t index, uint32_t subtree_pieces) {
   return !tiler_.box_visible(box);  // false for an empty (off-screen) box too
 }
 
+inline bool TilerFrame::unclipped_sample_box(const ViewTriangle& view, ConvexPoly* box) const {
+  // Unclipped offsets lie inside the guard band (ViewVertex): 32-bit values.
+  int32_t min_x = int32_t(view.ox[0]), max_x = min_x, min_y = int32_t(view.oy[0]), max_y = min_y;
+  for (int i = 1; i < 3; ++i) {
+    min_x = min_of(min_x, int32_t(view.ox[i]));
+    max_x = max_of(max_x, int32_t(view.ox[i]));
+    min_y = min_of(min_y, int32_t(view.oy[i]));
+    max_y = max_of(max_y, int32_t(view.oy[i]));
+  }
+  const int32_t cx = int32_t(view_.center_x), cy = int32_t(view_.center_y);
+  sample_box(cx + min_x, cy + min_y, cx + max_x, cy + max_y, band_.factor, camera_.width, camera_.height,
+             jittered(options_), box);
+  return box->min_x <= box->max_x && box->min_y <= box->max_y;
+}
+
 uint16_t TilerFrame::plan_bands(const ViewTriangle& view) const {
   int64_t first, last;
   if (view.unclipped) {
     // Unclipped, the piece's one part has these vertex positions: the bands its sample box reaches are
     // the only ones where it can be tiled (none when it holds no sample, on screen or at all).
-    int64_t min_x = view.ox[0], max_x = min_x, min_y = view.oy[0], max_y = min_y;
-    for (int i = 1; i < 3; ++i) {
-      min_x = min_of(min_x, view.ox[i]);
-      max_x = max_of(max_x, view.ox[i]);
-      min_y = min_of(min_y, view.oy[i]);
-      max_y = max_of(max_y, view.oy[i]);
-    }
     ConvexPoly box;
-    sample_box(int32_t(view_.center_x + min_x), int32_t(view_.center_y + min_y), int32_t(view_.center_x + max_x),
-               int32_t(view_.center_y + max_y), band_.factor, camera_.width, camera_.height, jittered(options_), &box);
-    if (box.min_x > box.max_x || box.min_y > box.max_y) return plan_.no_band();
+    if (!unclipped_sample_box(view, &box)) return plan_.no_band();
     first = box.min_y / band_.factor;
     last = box.max_y / band_.factor;
   } else if (!view_row_span(view_, view.p, &first, &last)) {
@@ -1419,6 +1425,12 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
     plan_.set(index, bands);
     if (!plan_.has(bands)) return true;
   }
+  // Without a plan, an unclipped piece's sample box comes from its cached screen positions: a piece too
+  // small to hold a sample (most of a detailed model's, on a small screen) is dropped before it is
+  // projected (the plan's test), and the others' one part needs no part_box.
+  ConvexPoly unclipped_box;
+  const bool have_box = !planned && cached && transform().unclipped;
+  if (have_box && !unclipped_sample_box(view, &unclipped_box)) return true;
   // Outside this band: skipped before projecting (most pieces, with many bands); an exact plan has
   // answered that already.
   if (band_.rows < camera_.height && !(planned && plan_.exact())) {
@@ -1434,7 +1446,8 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
   int whole_n = -1;  // its parts, once projected
   for (int i = 0; i < n; ++i) {
     ConvexPoly poly;
-    part_box(parts[i], &poly);
+    if (have_box) copy_box(unclipped_box, &poly);  // the one part's box (orient only reorders its vertices)
+    else part_box(parts[i], &poly);
     ConvexPoly box;  // the band's part of the box alone
     if (!band_.clip_box(poly, &box)) continue;  // a third of the parts: their edges are never needed
     // A split piece's box is tested before its edges are made: most such boxes the walk reaches are
