@@ -444,8 +444,10 @@ int cmd_info(int argc, char** argv) {
   printf("bounding sphere (world units): centre %d,%d,%d radius %d\n", info.sphere_center[0], info.sphere_center[1],
          info.sphere_center[2], info.sphere_radius);
   const double split = scene.triangle_count ? double(scene.bsp_piece_count) / scene.triangle_count : 0.0;
-  printf("bsp: %u nodes, %u pieces, split ratio %.4f, depth %u\n", scene.bsp_node_count, scene.bsp_piece_count, split,
-         info.bsp_depth);
+  uint32_t cones = 0;
+  for (uint32_t i = 0; scene.bsp_cones && i < scene.bsp_node_count; ++i) cones += scene.bsp_cones[i].spread != ml::kNoCone;
+  printf("bsp: %u nodes, %u pieces, split ratio %.4f, depth %u, %u normal cones\n", scene.bsp_node_count,
+         scene.bsp_piece_count, split, info.bsp_depth, cones);
   print_textures(scene);
   CameraArgs none;
   const ml::Camera base = make_camera(scene, none, width, height);

@@ -51,6 +51,7 @@ std::string stats_json(const ml::Stats& s, const RunInfo& run) {
     << ",\"triangles_tiled\":" << s.triangles_tiled << ",\"bsp_nodes\":" << s.bsp_nodes
     << ",\"bsp_pieces\":" << s.bsp_pieces << ",\"bsp_split_ratio\":" << number(run.bsp_split_ratio)
     << ",\"pyramid_bytes\":" << s.pyramid_bytes << ",\"bsp_subtrees_culled\":" << s.bsp_subtrees_culled
+    << ",\"bsp_subtrees_back_facing\":" << s.bsp_subtrees_back_facing
     << ",\"texture_planes_reused\":" << s.texture_planes_reused << ",\"n\":" << s.n << ",\"m_max\":" << s.m_max
     << ",\"geometry_samples\":" << s.geometry_samples << ",\"sort_instructions\":" << s.sort_instructions
     << ",\"texture_loads\":" << s.texture_loads << ",\"texture_reloads\":" << s.texture_reloads

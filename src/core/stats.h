@@ -32,6 +32,7 @@ struct Stats {
   uint32_t bsp_pieces = 0;             // pieces stored in the BSP (>= triangles when some were split)
   uint32_t pyramid_bytes = 0;
   uint32_t bsp_subtrees_culled = 0;    // BSP subtrees skipped whole (box proved hidden or off screen)
+  uint32_t bsp_subtrees_back_facing = 0;  // BSP subtrees skipped whole (normal cone: all back faces)
   uint32_t texture_planes_reused = 0;  // textured pieces whose texture planes an earlier band made (kept)
 
   // scanline

@@ -60,8 +60,9 @@ enum class SectionType : uint32_t {
   Texels = 11,     // uint8[count]: every texture's bytes, where its TextureTexels entry says
   BspSplits = 12,  // PackedSplitPiece<Index>[count]: pieces that are part of a split triangle
   Uvs = 13,        // int32_t[2] per vertex (TEXCOORD_0, Q16.16); absent: every uv is 0
+  BspCones = 14,   // PackedBspCone[count], one per BspNodes entry (same index); absent: no cone tests
 };
-constexpr uint32_t kSectionTypeCount = 13;
+constexpr uint32_t kSectionTypeCount = 14;
 
 struct SectionEntry {
   uint32_t type;     // SectionType
@@ -181,6 +182,23 @@ struct PackedSplitPiece {
 };
 static_assert(sizeof(PackedSplitPiece<uint16_t>) == 8 && sizeof(PackedSplitPiece<uint32_t>) == 16,
               "PackedSplitPiece layout");
+
+// Normal cone of a BSP subtree, for culling subtrees that face away from the eye as a whole. For the
+// eye E and the node's subtree box grown by kConeMarginWorld world units on every side, with
+//   near = min over the grown box of dot(axis, p - E)     (a corner per axis: exact, integer)
+//   far  = max over the grown box of |p - E|_1             (the farthest corner, per axis)
+// every triangle with a piece in the subtree faces away from E (triangle_facing < 0 for its whole
+// triangle) and no material there is double-sided when 2 * near > spread * far. The compiler proves it:
+// each such triangle's unit normal n has |n - axis / |axis|| * |axis| * 2 <= spread, and every piece
+// vertex lies within kConeMarginWorld of its triangle's plane, so n . (E - v) < 0 for each vertex v.
+// spread == kNoCone: no test (mixed normals, a double-sided material, or a subtree too small to pay).
+constexpr uint8_t kNoCone = 255;
+constexpr int32_t kConeMarginWorld = 4;
+struct PackedBspCone {
+  int8_t axis[3];              // direction of the cone (any length, |axis| > 0 with a cone)
+  uint8_t spread;              // see above; kNoCone: no cone
+};
+static_assert(sizeof(PackedBspCone) == 4, "PackedBspCone layout");
 
 struct TextureRef {
   uint32_t image;              // glTF image index (for info; the texels are in TextureTexels/Texels)

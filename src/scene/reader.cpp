@@ -38,6 +38,7 @@ uint32_t element_size(uint32_t type, bool wide) {
     case SectionType::Uvs: return 8;
     case SectionType::TextureTexels: return sizeof(TextureTexels);
     case SectionType::Texels: return 1;
+    case SectionType::BspCones: return sizeof(PackedBspCone);
   }
   return 0;
 }
@@ -401,6 +402,8 @@ Status read_scene(const void* blob, size_t size, Scene* out, CrcCheck crc) {
   s.bsp_nodes = section_data<uint8_t>(base, sec.get(SectionType::BspNodes), &s.bsp_node_count);
   s.bsp_pieces = section_data<uint8_t>(base, sec.get(SectionType::BspPieces), &s.bsp_piece_count);
   s.bsp_splits = section_data<uint8_t>(base, sec.get(SectionType::BspSplits), &s.bsp_split_count);
+  uint32_t cone_count = 0;
+  s.bsp_cones = section_data<PackedBspCone>(base, sec.get(SectionType::BspCones), &cone_count);
   s.textures = section_data<TextureRef>(base, sec.get(SectionType::Textures), &s.texture_count);
   s.texture_texels = section_data<TextureTexels>(base, sec.get(SectionType::TextureTexels), &s.texture_texels_count);
   s.texels = section_data<uint8_t>(base, sec.get(SectionType::Texels), &s.texel_bytes);
@@ -414,6 +417,7 @@ Status read_scene(const void* blob, size_t size, Scene* out, CrcCheck crc) {
   if (!(st = check_vertices(s, sec.get(SectionType::Uvs))).ok()) return st;
   if (!(st = check_triangles(s)).ok()) return st;
   if (!(st = check_bsp(s)).ok()) return st;
+  if (s.bsp_cones && cone_count != s.bsp_node_count) return bad("bsp cone count does not match bsp node count");
   *out = s;
   return ok_status();
 }
@@ -424,6 +428,35 @@ BspNode bsp_node_unboxed(const Scene& s, uint32_t i) {
 
 void bsp_node_box(const Scene& s, uint32_t i, BspNode* node) {
   if (s.wide) scene_detail::node_box<uint32_t>(s, i, node); else scene_detail::node_box<uint16_t>(s, i, node);
+}
+
+// Small rather than fast (a test a node entered, not a piece): the M0+ image has little flash to spare.
+[[gnu::optimize("Os")]] bool bsp_subtree_faces_away(const Scene& s, uint32_t i, const Vec3i& eye) {
+  if (!s.bsp_cones || s.bsp_cones[i].spread == kNoCone) return false;
+  const PackedBspCone& cone = s.bsp_cones[i];
+  BspNode box;
+  bsp_node_box(s, i, &box);
+  const int32_t e[3] = {eye.x, eye.y, eye.z};
+  int64_t near = 0;  // |box - eye| < 2^25 a coordinate: near < 2^34
+  int32_t m[3];      // the farthest corner's distances from the eye along each axis
+  for (int a = 0; a < 3; ++a) {
+    const int32_t lo = box.bounds_min[a] - kConeMarginWorld - e[a], hi = box.bounds_max[a] + kConeMarginWorld - e[a];
+    near += int64_t(cone.axis[a]) * (cone.axis[a] >= 0 ? lo : hi);
+    m[a] = max_of(lo < 0 ? -lo : lo, hi < 0 ? -hi : hi);
+  }
+  // |p - E| <= m1 + m2 / 2 + m3 / 4 for m1 >= m2 >= m3 (squared, the cross terms cover the rest).
+  auto order = [](int32_t& a, int32_t& b) {
+    if (a < b) {
+      const int32_t t = a;
+      a = b;
+      b = t;
+    }
+  };
+  order(m[0], m[1]);
+  order(m[1], m[2]);
+  order(m[0], m[1]);
+  const int64_t far4 = 4 * int64_t(m[0]) + 2 * int64_t(m[1]) + m[2];  // >= 4 |p - E|
+  return 8 * near > int64_t(cone.spread) * far4;
 }
 
 Vec3i vertex_world(const Scene& scene, uint32_t batch, uint32_t vertex) {

@@ -55,6 +55,7 @@ struct Scene {
   const void* bsp_nodes = nullptr;           uint32_t bsp_node_count = 0;
   const void* bsp_pieces = nullptr;          uint32_t bsp_piece_count = 0;
   const void* bsp_splits = nullptr;          uint32_t bsp_split_count = 0;
+  const PackedBspCone* bsp_cones = nullptr;  // one per BSP node, or null (no subtree cone tests)
   const TextureRef* textures = nullptr;      uint32_t texture_count = 0;
   bool wide = false;                         // 32-bit index fields (SceneInfo kWideIndices)
   int bounds_shift = 0;                      // log2 of a BSP bounds cell
@@ -136,6 +137,11 @@ BspNode bsp_node_unboxed(const Scene& s, uint32_t i);
 
 // Fills node->bounds_min/max with node i's subtree box in world units.
 void bsp_node_box(const Scene& s, uint32_t i, BspNode* node);
+
+// True when node i has a normal cone (blob_format.h PackedBspCone) proving that every triangle with a
+// piece in its subtree faces away from `eye` (world units, |.| < 2^24), so the subtree can be skipped
+// whole. False without cones, without a cone for the node, or when the cone does not prove it.
+bool bsp_subtree_faces_away(const Scene& s, uint32_t i, const Vec3i& eye);
 
 // BSP node i, decoded: plane in Q1.30, children, piece range, subtree box in world units.
 inline BspNode bsp_node(const Scene& s, uint32_t i) {

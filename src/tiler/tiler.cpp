@@ -1199,11 +1199,12 @@ Status TilerFrame::walk_bsp() {
     uint32_t near, far;
     children(node, &near, &far);
     if (!(f & kNearDone)) {
-      if (node.subtree_pieces >= cull_min && subtree_hidden(index, node.subtree_pieces)) {
-        // Every piece below is hidden (or outside the band).
+      // Every piece below is a back face (the node's normal cone), or hidden (or outside the band).
+      const bool back = scene_.bsp_cones && bsp_subtree_faces_away(scene_, index, view_.eye);
+      if (back || (node.subtree_pieces >= cull_min && subtree_hidden(index, node.subtree_pieces))) {
         pieces_done += node.subtree_pieces;
         st_->triangles_culled += node.subtree_pieces;
-        ++st_->bsp_subtrees_culled;
+        ++(back ? st_->bsp_subtrees_back_facing : st_->bsp_subtrees_culled);
         --sp;
         continue;
       }

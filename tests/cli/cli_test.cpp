@@ -162,7 +162,7 @@ TEST_F(CliTemp, RenderWritesPngIdsWorkAndStats) {
   for (const char* key : {"size", "renderer", "aa", "shading", "triangles_in", "triangles_culled", "triangles_drawn",
                           "pixel_writes", "sink_calls", "shading_calls", "peak_arena_bytes", "cells_visited",
                           "cells_visited_per_pixel", "triangles_tiled", "bsp_nodes", "bsp_pieces", "bsp_split_ratio",
-                          "pyramid_bytes", "bsp_subtrees_culled", "texture_planes_reused", "n", "m_max", "geometry_samples", "sort_instructions", "texture_bytes_loaded",
+                          "pyramid_bytes", "bsp_subtrees_culled", "bsp_subtrees_back_facing", "texture_planes_reused", "n", "m_max", "geometry_samples", "sort_instructions", "texture_bytes_loaded",
                           "texture_bytes_peak"})
     EXPECT_NE(r.out.find(std::string("\"") + key + "\":"), std::string::npos) << key;
   EXPECT_EQ(json_int(r.out, "pixel_writes"), 96 * 64);

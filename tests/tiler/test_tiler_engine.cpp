@@ -9,6 +9,7 @@
 #include "core/arena.h"
 #include "core/band.h"
 #include "render/render.h"
+#include "platform/host/image_sink.h"
 #include "platform/host/scene_load.h"
 #include "tests/common/engine_scene.h"
 #include "tests/tiler/tiler_test_util.h"
@@ -54,6 +55,45 @@ TEST(TilerEngine, EveryPixelOnceAt320x240AndOthers) {
       }
     }
   }
+}
+
+// The normal cones skip only back faces: the same image and the same pieces drawn as without them, from
+// eyes all around the model, whole-frame and a band at a time, while they skip subtrees.
+TEST(TilerEngine, NormalConesChangeNoImage) {
+  const mlhost::LoadedScene* s = engine();
+  if (!s) GTEST_SKIP() << "assimp-testmodels not installed";
+  ASSERT_NE(s->scene.bsp_cones, nullptr);
+  ml::Scene without = s->scene;
+  without.bsp_cones = nullptr;
+  const ml::SceneInfo& info = *s->scene.info;
+  const int32_t r = info.sphere_radius * 5 / 2;
+  uint32_t skipped = 0;
+  const int32_t eyes[][3] = {{r, r / 3, r / 2}, {-r, r / 2, 0}, {0, -r, r / 4}, {r / 3, 0, -r}, {-r / 2, r, -r / 2}};
+  for (const auto& e : eyes) {
+    ml::Camera cam = ml::frame_sphere(ml::Vec3i{info.sphere_center[0], info.sphere_center[1], info.sphere_center[2]},
+                                      info.sphere_radius, 160, 120, 45 << 16);
+    cam.eye = ml::Vec3i{info.sphere_center[0] + e[0], info.sphere_center[1] + e[1], info.sphere_center[2] + e[2]};
+    for (bool spare : {true, false}) {
+      ml::RenderOptions o;
+      o.shading = ml::ShadingMode::Ids;
+      ml::Stats with_stats, without_stats;
+      auto draw = [&](const ml::Scene& scene, ml::Stats* st) {
+        const size_t bytes = ml::render_arena_bytes(scene, cam, o) + (spare ? ml::render_spare_bytes(scene, cam, o) : 0);
+        std::vector<uint64_t> mem(bytes / 8 + 1);
+        ml::Arena arena(mem.data(), bytes);
+        mlhost::ImageSink sink;
+        const ml::Status status = ml::render(scene, cam, o, arena, sink, st);
+        EXPECT_TRUE(status.ok()) << status.message;
+        EXPECT_TRUE(sink.contract_ok()) << sink.contract_error();
+        return sink.pixels();
+      };
+      EXPECT_EQ(draw(s->scene, &with_stats), draw(without, &without_stats)) << "eye " << e[0] << "," << e[1] << "," << e[2];
+      EXPECT_EQ(with_stats.triangles_drawn, without_stats.triangles_drawn);
+      EXPECT_EQ(without_stats.bsp_subtrees_back_facing, 0u);
+      skipped += with_stats.bsp_subtrees_back_facing;
+    }
+  }
+  EXPECT_GT(skipped, 100u);
 }
 
 }  // namespace

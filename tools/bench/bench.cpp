@@ -353,14 +353,14 @@ int frame(const std::string& path, const std::string& renderer, const std::strin
   printf("renderer=%s size=%dx%d aa=%d filter=%s samples=%s triangles=%u drawn=%u culled=%u cells_visited=%llu cells_per_pixel=%.4f "
          "peak_arena_bytes=%u arena_bytes=%zu pyramid_bytes=%u shading_calls=%llu geometry_samples=%llu m_max=%u n=%u "
          "pixel_writes=%llu sink_pixels=%llu bands=%u render_bands=%u triangles_tiled=%u split_ratio=%.4f texture_bytes_loaded=%u "
-         "texture_bytes_peak=%u texture_loads=%u subtrees_culled=%u planes_reused=%u\n",
+         "texture_bytes_peak=%u texture_loads=%u subtrees_culled=%u subtrees_back_facing=%u planes_reused=%u\n",
          renderer.c_str(), w, h, aa, filter == ml::FilterKind::Cosine ? "cosine" : "box",
          samples == ml::SamplePattern::Jittered ? "jittered" : "regular", scene.triangle_count, stats.triangles_drawn, stats.triangles_culled,
          (unsigned long long)stats.cells_visited, double(stats.cells_visited) / pixels, stats.peak_arena_bytes, bytes,
          stats.pyramid_bytes, (unsigned long long)stats.shading_calls, (unsigned long long)stats.geometry_samples,
          stats.m_max, stats.n, (unsigned long long)stats.pixel_writes, (unsigned long long)sink.pixels_, stats.bands, stats.render_bands,
          stats.triangles_tiled, split, stats.texture_bytes_loaded, stats.texture_bytes_peak, stats.texture_loads,
-         stats.bsp_subtrees_culled, stats.texture_planes_reused);
+         stats.bsp_subtrees_culled, stats.bsp_subtrees_back_facing, stats.texture_planes_reused);
   return 0;
 }
 

@@ -8,6 +8,7 @@
 #include "tools/scenec/scenec.h"
 
 namespace ml {
+struct Scene;
 namespace scenec_detail {
 
 // The renderer's dequantization (scene/reader.cpp vertex_world), on blob structs.
@@ -40,6 +41,10 @@ bool build_bsp(const std::vector<Material>& materials, const std::vector<Batch>&
 // the renderer dequantizes them; one reverse pass (children follow their parent breadth-first).
 void fill_subtree_bounds(const std::vector<Batch>& batches, const std::vector<Triangle>& triangles,
                          const std::vector<Vertex>& vertices, BspResult* bsp);
+
+// Normal cones of a packed scene's BSP subtrees, one per node (kNoCone where none pays or holds); see
+// cones.cpp and blob_format.h PackedBspCone.
+std::vector<PackedBspCone> bsp_cones(const Scene& scene);
 
 }  // namespace scenec_detail
 }  // namespace ml

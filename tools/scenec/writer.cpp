@@ -124,7 +124,7 @@ uint8_t cell_of(int64_t w, int32_t origin, int shift) {
 }
 
 template <typename Index>
-bool pack_tables(const SceneTables& t, Blob* out, std::string* error) {
+bool pack_tables(const SceneTables& t, const std::vector<PackedBspCone>& cones, Blob* out, std::string* error) {
   SceneInfo info = t.info;
   const int shift = bounds_shift(info);
   info.flags = (sizeof(Index) == 4 ? kWideIndices : 0u) | (uint32_t(shift) << kBoundsShiftBit);
@@ -188,6 +188,7 @@ bool pack_tables(const SceneTables& t, Blob* out, std::string* error) {
     writer.add(SectionType::BspNodes, nodes);
     writer.add(SectionType::BspPieces, pieces);
     if (!splits.empty()) writer.add(SectionType::BspSplits, splits);
+    if (!cones.empty()) writer.add(SectionType::BspCones, cones);
   }
   if (!t.textures.empty()) writer.add(SectionType::Textures, t.textures);
   if (!t.texture_texels.empty()) {
@@ -258,8 +259,22 @@ bool validate_mesh(const SceneMesh& mesh, std::string* error, size_t* triangle_t
 bool pack_scene(const SceneTables& tables, Blob* out, std::string* error) {
   size_t split_pieces = 0;
   for (const BspPiece& p : tables.bsp_pieces) split_pieces += is_whole(p, tables.triangles) ? 0 : 1;
-  return needs_wide(tables, split_pieces) ? pack_tables<uint32_t>(tables, out, error)
-                                          : pack_tables<uint16_t>(tables, out, error);
+  const bool wide = needs_wide(tables, split_pieces);
+  auto pack = [&](const std::vector<PackedBspCone>& cones) {
+    return wide ? pack_tables<uint32_t>(tables, cones, out, error) : pack_tables<uint16_t>(tables, cones, out, error);
+  };
+  if (!pack({})) return false;
+  if (tables.bsp_nodes.empty()) return true;
+  // The cones are computed on the packed scene, with the renderer's decoders; then packed with it.
+  Scene scene;
+  const Status read = read_scene(out->data(), out->size, &scene, CrcCheck::Skip);
+  if (!read.ok()) {
+    *error = std::string("packed scene does not read back: ") + read.message;
+    return false;
+  }
+  const std::vector<PackedBspCone> cones = scenec_detail::bsp_cones(scene);
+  const bool any = std::any_of(cones.begin(), cones.end(), [](const PackedBspCone& c) { return c.spread != kNoCone; });
+  return !any || pack(cones);
 }
 
 CompileResult compile_mesh(const SceneMesh& mesh, const CompileOptions& options) {
