@@ -186,12 +186,13 @@ static_assert(sizeof(PackedSplitPiece<uint16_t>) == 8 && sizeof(PackedSplitPiece
 // Normal cone of a BSP subtree, for culling subtrees that face away from the eye as a whole. For the
 // eye E and the node's subtree box grown by kConeMarginWorld world units on every side, with
 //   near = min over the grown box of dot(axis, p - E)     (a corner per axis: exact, integer)
-//   far  = max over the grown box of |p - E|_1             (the farthest corner, per axis)
+//   m1 >= m2 >= m3: the farthest corner's distances from E along the three axes
+//   far4 = 4 m1 + 2 m2 + m3                                 (>= 4 |p - E| over the grown box)
 // every triangle with a piece in the subtree faces away from E (triangle_facing < 0 for its whole
-// triangle) and no material there is double-sided when 2 * near > spread * far. The compiler proves it:
-// each such triangle's unit normal n has |n - axis / |axis|| * |axis| * 2 <= spread, and every piece
-// vertex lies within kConeMarginWorld of its triangle's plane, so n . (E - v) < 0 for each vertex v.
-// spread == kNoCone: no test (mixed normals, a double-sided material, or a subtree too small to pay).
+// triangle) and no material there is double-sided when 8 * near > spread * far4. The compiler
+// guarantees it: each such triangle's unit normal n has 2 |axis| |n - axis / |axis|| <= spread, and
+// every piece vertex lies within kConeMarginWorld of its triangle's plane (docs/scene-blob.md has the
+// proof). spread == kNoCone: no test (mixed normals, a double-sided material, a small subtree).
 constexpr uint8_t kNoCone = 255;
 constexpr int32_t kConeMarginWorld = 4;
 struct PackedBspCone {
