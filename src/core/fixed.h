@@ -18,6 +18,7 @@
 // |                           |          | the near plane)                      |                                        |
 // | barycentric weight        | int32    | Q16 (the three sum to 65536)         | [0, 65536] inside the triangle         |
 // | colour channel            | uint8    | 0..255 sRGB-ish, no gamma handling   |                                        |
+// | screen-linear value       | int64    | Q20 (kPlaneBits), at pixel centres   | inputs |v| < 2^16, slope <= 2^20/pixel |
 // | texture coordinate        | int32    | Q16.16                               | full int32                             |
 // | angle                     | int32    | degrees Q16.16                       | field of view in [1, 170] degrees      |
 // | focal length              | int64    | 1/256 pixel per unit of x/z          | (0, 2^27)                              |
@@ -67,6 +68,9 @@ constexpr uint32_t kDepthNear = 1u << kDepthBits;
 
 constexpr int kWeightBits = 16;
 constexpr int32_t kWeightOne = 1 << kWeightBits;
+
+// Quantities linear in screen space (shade.h LinearPlane: Gouraud colour channels).
+constexpr int kPlaneBits = 20;
 
 constexpr int kTexcoordBits = 16;
 // Textures (scene/blob_format.h TextureTexels): power-of-two sides up to 2^10 texels, so a texel

@@ -27,7 +27,10 @@ struct Stats {
 
   // tiler
   uint64_t cells_visited = 0;          // pyramid cells (masks) visited by tile_poly
-  uint32_t triangles_tiled = 0;        // tile_poly calls (a clipped part of a piece, once per render band)
+  // tile_poly calls: a clipped part of a piece once per render band it reaches; with Gouraud colours
+  // a split piece's part whose whole triangle projects in several parts (the near plane or the guard
+  // band cut it) once per whole part plus once more (its samples outside them).
+  uint32_t triangles_tiled = 0;
   uint32_t bsp_nodes = 0;
   uint32_t bsp_pieces = 0;             // pieces stored in the BSP (>= triangles when some were split)
   uint32_t pyramid_bytes = 0;

@@ -105,10 +105,12 @@ void start_span(ActiveTri* t) {
 // Edge p -> q of step_span: walks the edge's boundary column *col to this row's crossing and narrows
 // [*left, *right]; false when the edge is horizontal and the row lies outside it. row = 256 Y + oy.
 // E*den at column X is lattice_row(edge_function(p, q)) at X, written relative to p, which takes
-// fewer products: a (256 X + ox - den p.x) + b (row - den p.y), minus den off a top-left edge.
+// fewer products: a (256 X + ox - den p.x) + b (row - den p.y), minus den off a top-left edge
+// (edge_plane's a and b; its c, unused, costs nothing inline).
 static inline bool step_edge(int32_t px, int32_t py, int32_t qx, int32_t qy, const Lattice& lat, int64_t row,
                              int32_t lo, int32_t hi, int16_t* col, int32_t* left, int32_t* right) {
-  const int64_t a = int64_t(py) - qy, b = int64_t(qx) - px, k = a * kSubpixelOne;
+  const EdgeFunction plane = edge_plane(px, py, qx, qy);
+  const int64_t a = plane.a, b = plane.b, k = a * kSubpixelOne;
   int32_t x = *col;
   int64_t v = a * (int64_t(x) * kSubpixelOne + lat.ox - int64_t(lat.den) * px) + b * (row - int64_t(lat.den) * py);
   if (!is_top_left(a, b)) v -= lat.den;

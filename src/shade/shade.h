@@ -44,8 +44,7 @@ void shade_triangle(const Scene& scene, const Light& light, ShadingMode mode, ui
 // A quantity linear in screen space, evaluated at pixel centres:
 //   value(px, py) = (origin + step_x * px + step_y * py) >> kPlaneBits
 // Ranges: inputs |v| < 2^16; slopes are bounded by 2^20 per pixel (exact for anything wider than
-// 1/16 pixel); inside the guard band every term stays below 2^62.
-constexpr int kPlaneBits = 20;
+// 1/16 pixel); inside the guard band every term stays below 2^62. kPlaneBits: core/fixed.h.
 struct LinearPlane {
   int64_t origin, step_x, step_y;
   int32_t at(int32_t px, int32_t py) const {

@@ -949,7 +949,7 @@ class TilerFrame {
   // A split piece's part whose whole triangle projects in several parts, tiled in each with its colour
   // planes; false when the sink refused a write.
   // Out of line and optimized for size: rare (triangles the near plane or the guard band cuts), off
-  // the walk's loop (m0plus: 292 bytes, 338 at -O2; that image is within a few hundred bytes of its budget).
+  // the walk's loop (m0plus: 278 bytes, 312 at -O2; that image is within a few hundred bytes of its budget).
   [[gnu::noinline, gnu::optimize("Os")]] bool tile_in_whole_parts(ConvexPoly* poly, const ScreenTriangle* whole_parts, int count,
                                              const Vec3i* world);
   // The rows rendered at once: the most whole bands whose extra arena bytes (tiler_render_rows_bytes)
@@ -1351,13 +1351,17 @@ const ScreenTriangle* TilerFrame::clip_to_whole(const Triangle& tri, const Vec3i
 // piece may stray from the triangle by a fraction of a subpixel) are covered as before, only their
 // colour extrapolated (the pyramid takes every sample once).
 // poly: the piece's part in the band (BandRows::clip); each whole part's edges are added after the
-// piece's own and taken off again.
+// piece's own and taken off again. Each tile call counts in Stats::triangles_tiled (count + 1 a part).
 bool TilerFrame::tile_in_whole_parts(ConvexPoly* poly, const ScreenTriangle* whole_parts, int count,
                                      const Vec3i* world) {
+  // The part has its own three edges only: clip_to_whole adds the whole triangle's edges only when
+  // that triangle projects in one part, and it comes here only when it projects in several
+  // (BandRows::clip moves edges, adds none). So a whole part's three always fit after them.
+  static_assert(3 + 3 <= kMaxPolyEdges, "a part's edges and a whole part's fit one polygon");
   const int own = poly->n;
   for (int j = 0; j <= count; ++j) {
     poly->n = own;
-    if (j < count && own + 3 <= kMaxPolyEdges) {
+    if (j < count) {
       ConvexPoly edges;
       poly_edges(whole_parts[j], &edges);
       for (int k = 0; k < 3; ++k) {

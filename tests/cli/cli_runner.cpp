@@ -49,6 +49,14 @@ std::string beside_test_binary(const std::string& name) {
   return self.substr(0, self.find_last_of('/') + 1) + name;
 }
 
+std::string in_source_tree(const std::string& rel) {
+  if (access(rel.c_str(), F_OK) == 0) return rel;
+  // From the binary's folder up: "/a/b/" then "/a/" (find_last_of gives npos + 1 = 0 at the top).
+  for (std::string dir = beside_test_binary(""); dir.size() > 1; dir.resize(dir.find_last_of('/', dir.size() - 2) + 1))
+    if (access((dir + rel).c_str(), F_OK) == 0) return dir + rel;
+  return "";
+}
+
 std::string cli_path() {
   if (const char* env = getenv("MASKLINE_CLI")) return env;
   const std::string beside = beside_test_binary("maskline");

@@ -23,6 +23,12 @@ struct RunResult {
 // Path of `name` relative to this test binary's directory ("" when /proc/self/exe cannot be read).
 std::string beside_test_binary(const std::string& name);
 
+// Path of `rel`, a file or folder of the source tree ("tables/mask_tables.h"): `rel` itself when it
+// exists from the working directory (the repository root, where `make test` runs), else under the
+// nearest folder above this test binary that holds it (BUILD/san/tests inside the tree), so the
+// binary run from anywhere finds it; "" when neither.
+std::string in_source_tree(const std::string& rel);
+
 // Path of the CLI: $MASKLINE_CLI, else "maskline" next to this test binary.
 std::string cli_path();
 

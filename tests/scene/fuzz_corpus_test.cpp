@@ -10,17 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "tests/cli/cli_runner.h"
 #include "tests/scene/scene_test_util.h"
 
 using namespace ml;
 
 namespace {
 
-std::string corpus_dir() {
-  std::string here = __FILE__;   // tests/scene/fuzz_corpus_test.cpp, relative to the repository root
-  const size_t cut = here.rfind("tests/scene/");
-  return (cut == std::string::npos ? std::string() : here.substr(0, cut)) + "tests/fuzz/corpus";
-}
+std::string corpus_dir() { return clitest::in_source_tree("tests/fuzz/corpus"); }
 
 std::vector<std::pair<std::string, CompileResult>> seeds() {
   std::vector<std::pair<std::string, CompileResult>> out;

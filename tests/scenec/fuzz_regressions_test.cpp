@@ -12,11 +12,7 @@
 
 namespace {
 
-std::string regressions_dir() {
-  std::string here = __FILE__;   // tests/scenec/fuzz_regressions_test.cpp, relative to the repository root
-  const size_t cut = here.rfind("tests/scenec/");
-  return (cut == std::string::npos ? std::string() : here.substr(0, cut)) + "tests/fuzz/gltf_regressions";
-}
+std::string regressions_dir() { return clitest::in_source_tree("tests/fuzz/gltf_regressions"); }
 
 std::vector<std::string> regression_files() {
   std::vector<std::string> out;

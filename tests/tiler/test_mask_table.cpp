@@ -240,7 +240,10 @@ TEST(MaskTable, RegenerationIsByteIdentical) {
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   for (const char* name : {"mask_tables.h", "mask_tables_data.cpp", "filter_tables.h", "filter_tables_data.cpp"}) {
     const std::string fresh = slurp(std::string(dir) + "/" + name);
-    const std::string committed = slurp(std::string("tables/") + name);
+    const std::string committed_path = clitest::in_source_tree(std::string("tables/") + name);
+    EXPECT_FALSE(committed_path.empty()) << "tables/" << name << " found neither from the working directory nor "
+                                         << "above the test binary";
+    const std::string committed = slurp(committed_path);
     EXPECT_FALSE(fresh.empty()) << name;
     EXPECT_TRUE(fresh == committed) << "tables/" << name << " differs from a fresh `maskgen --k "
                                     << ml::kMaskK << "`: run `make tables`";
