@@ -1347,9 +1347,10 @@ bool TilerFrame::subtree_hidden(uint32_t index, uint32_t subtree_pieces) {
   if (subtree_pieces == 0) return true;
   const BandRows& band = band_;
   int32_t x0, y0, x1, y1;  // pixels
-  // The box's rectangle; false when the box reaches the near plane (nothing is known). With
-  // test_rows a box outside the band's rows sets `outside` instead, without a division (the
-  // rectangle's row test, exactly): most subtrees lie outside most bands.
+  // The box's rectangle; false when the box reaches the near plane (nothing is known). On the boards,
+  // with test_rows a box outside the band's rows sets `outside` instead, without a division (the
+  // rectangle's row test, exactly): most subtrees lie outside most bands. A 64-bit host divides
+  // (corner_rect, the last one kept).
   bool outside = false;
   auto rect = [&](int32_t* rx0, int32_t* ry0, int32_t* rx1, int32_t* ry1, bool test_rows) {
     BspNode node;  // its box alone (the walk's copy of the rest is not copied a test)
