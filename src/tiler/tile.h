@@ -126,7 +126,34 @@ inline void composite(TriageMask* s, const TriageMask& p, uint64_t* w, uint64_t*
 
 enum class TileResult : uint8_t { Hidden, Tiled, Failed };
 
-class HierTiler {
+// Where HierTiler::box_visible last found an uncovered sample: samples [x0, x1] x [y0, y1] (inclusive;
+// empty when x0 > x1), all uncovered. Kept on 64-bit hosts only; on the boards an empty base of
+// HierTiler, so no bytes (four fields there move the tiler frame's later members past the offsets a
+// Cortex-M0+ load reaches: 64 bytes more code).
+template <bool kKept>
+class BoxWitness {
+ protected:
+  bool witness_reached(const ConvexPoly&) const { return false; }
+  void remember_witness(int32_t, int32_t, int32_t, int32_t) const {}
+  void forget_witness() {}
+};
+template <>
+class BoxWitness<true> {
+ protected:
+  bool witness_reached(const ConvexPoly& p) const {
+    return wx0_ <= wx1_ && p.min_x <= wx1_ && wx0_ <= p.max_x && p.min_y <= wy1_ && wy0_ <= p.max_y;
+  }
+  // Remembered by queries (const: they never change the pyramid).
+  void remember_witness(int32_t x0, int32_t y0, int32_t x1, int32_t y1) const {
+    wx0_ = x0, wy0_ = y0, wx1_ = x1, wy1_ = y1;
+  }
+  void forget_witness() { wx0_ = 1, wx1_ = 0; }
+
+ private:
+  mutable int32_t wx0_ = 1, wy0_ = 0, wx1_ = 0, wy1_ = 0;
+};
+
+class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)> {
  public:
   // pitch: subpixels per sample (256 / samples a pixel per axis). work: optional work image (pixels,
   // the screen's size); the pyramid's row 0 is the top of its row work_row0 (the band's top row).
@@ -149,7 +176,8 @@ class HierTiler {
   bool visible(const ConvexPoly& poly);
 
   // The bounding-box part of that test alone (no edges): false when every sample in the
-  // polygon's box is covered. Never changes the pyramid.
+  // polygon's box is covered. Never changes the pyramid. On 64-bit hosts it remembers where it last
+  // found an uncovered sample (the witness) until the next tile(): a box reaching it is visible at once.
   bool box_visible(const ConvexPoly& poly);
 
   // Covers every remaining sample (the background polygon composited with the root mask).
@@ -192,6 +220,7 @@ class HierTiler {
   uint64_t box_bits(int level, int mx, int my) const;
   uint64_t block_box(int bx, int by) const;
   bool box_uncovered(int level, int mx, int my) const;
+  bool block_uncovered(uint64_t box, int bx, int by) const;
   void propagate_up(int level, int mx, int my);
   void add_work(int level, int mx, int my);
 
@@ -204,6 +233,8 @@ class HierTiler {
   const uint8_t* jitter_table_ = nullptr;
   // Sample box of the polygon being tiled or queried (inclusive).
   int32_t bx0_ = 0, by0_ = 0, bx1_ = -1, by1_ = -1;
+  // Remembers samples [x0, x1] x [y0, y1], all uncovered, cut to the box (BoxWitness).
+  void witness(int32_t x0, int32_t y0, int32_t x1, int32_t y1) const;
 };
 
 }  // namespace ml
