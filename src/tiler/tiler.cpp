@@ -311,6 +311,13 @@ class BandWriter : public CoverageWriter {
     }
   }
 
+  // The current table's colours in lanes (TexturePager::lanes_of) where a bilinear filter blends
+  // them as they are: the white table of a small triangle, or a table of the piece's colour.
+  const uint64_t* lanes_for(const TextureTexels& t, bool small) {
+    if (t.filter != uint8_t(TextureFilter::Bilinear) || lut_colour_ != (small ? 0xFFFFFF : colors_.flat)) return nullptr;
+    return pager_->lanes_of(texture_, lut_);
+  }
+
   // An 8x8 block's newly covered samples (mask) of a small flat textured triangle, its runs of rows in
   // one texture_runs: no rectangles through write() (its block is a few short rows). False for other
   // pieces, or when the pager falls back (the caller's runs then draw them).
@@ -334,7 +341,8 @@ class BandWriter : public CoverageWriter {
       mask &= ~(((uint64_t(1) << run) - 1) << at);
     }
     // One texture_runs for the block, then its runs out.
-    texture_runs(planes, scene_->texture_texels[texture_], bytes, lut_, lut_colour_, colors_.flat, runs, count, row_);
+    const TextureTexels& t = scene_->texture_texels[texture_];
+    texture_runs(planes, t, bytes, lut_, lut_colour_, colors_.flat, runs, count, row_, lanes_for(t, true));
     const Pixel* colours = row_;
     for (int32_t k = 0; k < count; ++k) {
       out_.put_row(runs[k].x, runs[k].y, colours, runs[k].n);
@@ -362,11 +370,12 @@ class BandWriter : public CoverageWriter {
     lookup_lut(bytes, uint32_t(w) * uint32_t(h), planes.exact);
     const Pixel* lut = lut_;
     const Pixel lut_colour = lut_colour_;
+    const uint64_t* lanes = lanes_for(t, planes.exact);
     if (w <= kRowPixels) {  // as many whole rows at once as the row buffer holds
       const int per = kRowPixels / w;
       for (int yy = y; yy < y + h; yy += per) {
         const int rows = min_of(per, y + h - yy);
-        texture_rows(planes, t, bytes, lut, lut_colour, colors_.flat, x, yy, w, rows, row_);
+        texture_rows(planes, t, bytes, lut, lut_colour, colors_.flat, x, yy, w, rows, row_, lanes);
         for (int r = 0; r < rows; ++r) out_.put_row(x, yy + r, row_ + r * w, w);
       }
       return;
@@ -374,7 +383,7 @@ class BandWriter : public CoverageWriter {
     for (int yy = y; yy < y + h; ++yy)
       for (int x0 = x; x0 < x + w; x0 += kRowPixels) {
         const int n = min_of(kRowPixels, x + w - x0);
-        texture_row(planes, t, bytes, lut, lut_colour, colors_.flat, x0, yy, n, row_);
+        texture_row(planes, t, bytes, lut, lut_colour, colors_.flat, x0, yy, n, row_, lanes);
         out_.put_row(x0, yy, row_, n);
       }
   }
@@ -1003,8 +1012,8 @@ class TilerFrame {
   bool projected_rows(const Vec3i world[3], int facing, int32_t* first, int32_t* last) const;
   // visit(piece, k) for the pieces in the drawing walk's order (k: 0, 1, ...), or backwards (k from the
   // last down), until it returns false.
-  template <typename Visit>
-  void walk_pieces(bool backwards, Visit visit);
+  template <bool kBackwards, typename Visit>
+  void walk_pieces(Visit visit);
   // The node's children ordered for a front-to-back walk: the one on the eye's side of its plane
   // first (kNone where there is none). One side test a visit, shared by the drawing walk and the plan's.
   void children(const BspNode& node, uint32_t* near, uint32_t* far) const;
@@ -1164,7 +1173,7 @@ void TilerFrame::plan_textures() {
   BatchTextures textures(scene_);
   for (uint32_t id = 0; id < scene_.triangle_count; ++id) {
     const Triangle tri = triangle_at(scene_, id);
-    const uint32_t texture = textures.of(tri.batch);
+    const uint32_t texture = kVertexCache ? textures.of(tri.batch) : triangle_texture(scene_, id);  // (boards: flash)
     if (texture == kNone) continue;
     Vec3i world[3];
     vertices_world(scene_, tri.batch, tri.v, world);
@@ -1184,15 +1193,16 @@ void TilerFrame::plan_textures() {
   // duck: one piece each way instead of its 8,544); the boards walk it all (flash).
   const uint32_t count = scene_.texture_texels_count;
   uint32_t found = 0;
-  walk_pieces(false, [&](uint32_t p, uint32_t k) {
-    const uint32_t texture = textures.of(triangle_at(scene_, bsp_piece(scene_, p).triangle).batch);
+  walk_pieces<false>([&](uint32_t p, uint32_t k) {
+    const uint32_t triangle = bsp_piece(scene_, p).triangle;
+    const uint32_t texture = kVertexCache ? textures.of(triangle_at(scene_, triangle).batch) : triangle_texture(scene_, triangle);
     if (texture != kNone && texture_plan_.piece(texture, k)) ++found;
     return !kVertexCache || found < count;
   });
   if (kVertexCache && found == count) {
     found = 0;
     texture_plan_.forget_last_pieces();
-    walk_pieces(true, [&](uint32_t p, uint32_t k) {
+    walk_pieces<true>([&](uint32_t p, uint32_t k) {
       const uint32_t texture = textures.of(triangle_at(scene_, bsp_piece(scene_, p).triangle).batch);
       if (texture != kNone && texture_plan_.last_piece(texture, k)) ++found;
       return found < count;
@@ -1225,9 +1235,9 @@ bool TilerFrame::projected_rows(const Vec3i world[3], int facing, int32_t* first
   return n > 0;
 }
 
-template <typename Visit>
-void TilerFrame::walk_pieces(bool backwards, Visit visit) {
-  const uint32_t total = scene_.bsp_node_count ? node_at(0).subtree_pieces : 0;
+template <bool kBackwards, typename Visit>
+void TilerFrame::walk_pieces(Visit visit) {
+  const uint32_t total = kBackwards && scene_.bsp_node_count ? node_at(0).subtree_pieces : 0;
   size_t sp = 0;
   uint32_t k = 0, visits = 0;
   stack_[sp++] = 0;
@@ -1237,15 +1247,15 @@ void TilerFrame::walk_pieces(bool backwards, Visit visit) {
     if (index >= scene_.bsp_node_count) break;
     const BspNode node = node_at(index);
     uint32_t near, far;
-    children(node, backwards ? &far : &near, backwards ? &near : &far);
+    children(node, kBackwards ? &far : &near, kBackwards ? &near : &far);
     if (!(f & kNearDone)) {
       f |= kNearDone;
       if (near != kNone && sp < stack_cap_) stack_[sp++] = near;
       continue;
     }
     for (uint32_t i = 0; i < node.piece_count; ++i, ++k) {
-      const uint32_t p = backwards ? node.first_piece + node.piece_count - 1 - i : node.first_piece + i;
-      if (!visit(p, backwards ? total - 1 - k : k)) return;
+      const uint32_t p = kBackwards ? node.first_piece + node.piece_count - 1 - i : node.first_piece + i;
+      if (!visit(p, kBackwards ? total - 1 - k : k)) return;
     }
     if (far != kNone) f = far; else --sp;
   }
