@@ -1008,7 +1008,7 @@ class TilerFrame {
   void part_box(const ScreenTriangle& part, ConvexPoly* poly) const;
   // Plans each texture's rows from the textured triangles' projected extent, and its first and last
   // piece in the BSP walk (TexturePlan).
-  void plan_textures();
+  ML_HOST_NOINLINE void plan_textures();
   bool projected_rows(const Vec3i world[3], int facing, int32_t* first, int32_t* last) const;
   // visit(piece, k) for the pieces in the drawing walk's order (k: 0, 1, ...), or backwards (k from the
   // last down), until it returns false.
