@@ -56,7 +56,9 @@ void spread_texel_lut(const TextureTexels& texture, const Pixel* lut, uint64_t* 
 // make_texel_lut table of this texture for colour `lut_colour`, or null (texels decoded one by one);
 // lut_colour is either `colour` (no product per sample) or white (the product per texel, or per
 // sample: a small triangle's bilinear filter). A small triangle's planes (TexturePlanes::exact) take
-// the exact coordinates at every sample.
+// the exact coordinates at every sample. lanes: lut's colours in lanes (TexturePager::lanes_of), or
+// null; a bilinear filter that blends lut's colours as they are takes them from there (the same
+// colours; 64-bit hosts).
 // texture_rows: `rows` such rows (y, y + 1, ...) of n samples each, one after another in out (the
 // format, filter and wraps looked at once for them all: the tiler's blocks).
 void texture_rows(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
