@@ -692,8 +692,11 @@ struct Renderer {
     const Pixel c = a.color[0];
     TexturePlanes& planes = planes_of(slot, a.id);
     if (planes.exact) {
-      texture_row(planes, scene->texture_texels[texture], bytes, pager.white_lut(texture, bytes), 0xFFFFFF, c, x0, y,
-                  int32_t(n), out);
+      const TextureTexels& t = scene->texture_texels[texture];
+      const bool bilinear = t.filter == uint8_t(TextureFilter::Bilinear);
+      const Pixel* white = pager.white_lut(texture, bytes);
+      texture_row(planes, t, bytes, white, 0xFFFFFF, c, x0, y, int32_t(n), out,
+                  bilinear ? pager.lanes_of(texture, white) : nullptr);
       return true;
     }
     SlotLut& l = tex_lut[slot];
@@ -704,7 +707,10 @@ struct Renderer {
       l.generation = pager.lut_generation();
       l.untabled = 0;
     }
-    texture_row(planes, scene->texture_texels[texture], bytes, l.lut, l.lut_colour, c, x0, y, int32_t(n), out);
+    const TextureTexels& t = scene->texture_texels[texture];
+    const bool lanes = t.filter == uint8_t(TextureFilter::Bilinear) && l.lut_colour == c;  // blended as they are
+    texture_row(planes, t, bytes, l.lut, l.lut_colour, c, x0, y, int32_t(n), out,
+                lanes ? pager.lanes_of(texture, l.lut) : nullptr);
     return true;
   }
   bool textured(uint32_t slot) const { return tex_of && tex_of[slot] != kNone; }

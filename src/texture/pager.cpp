@@ -54,7 +54,8 @@ size_t TexturePager::arena_bytes(const Scene& scene, uint32_t pool_bytes) {
   if (needs.desired == 0) return 0;
   const size_t n = scene.texture_texels_count;
   return arena_worst_case(min_of(pool_bytes, needs.desired) & ~3u, 4) + arena_worst_case(n * sizeof(Slot), 4) +
-         2 * arena_worst_case(n * sizeof(uint32_t), 4) + arena_worst_case(kLutSlots * kTexelLutEntries * sizeof(Pixel), 4);
+         2 * arena_worst_case(n * sizeof(uint32_t), 4) + arena_worst_case(kLutSlots * kTexelLutEntries * sizeof(Pixel), 4) +
+         (kLanes ? arena_worst_case(kLutSlots * kTexelLutEntries * sizeof(uint64_t), 8) : 0);
 }
 
 Status TexturePager::begin(const Scene& scene, TextureSource* source, uint32_t pool_bytes, Arena& arena,
@@ -73,8 +74,9 @@ Status TexturePager::begin(const Scene& scene, TextureSource* source, uint32_t p
   resident_ = arena.allocate_array<uint32_t>(count_);
   free_order_ = arena.allocate_array<uint32_t>(count_);
   luts_ = arena.allocate_array<Pixel>(kLutSlots * kTexelLutEntries);
-  for (LutKey& k : lut_keys_) k = LutKey{kNone, 0, 0};
-  if ((pool_bytes_ && !pool_) || !slots || !resident_ || !free_order_ || !luts_)
+  if (kLanes) lanes_ = arena.allocate_array<uint64_t>(kLutSlots * kTexelLutEntries);
+  for (LutKey& k : lut_keys_) k = LutKey{kNone, 0, 0, 0};
+  if ((pool_bytes_ && !pool_) || !slots || !resident_ || !free_order_ || !luts_ || (kLanes && !lanes_))
     return error(StatusCode::ArenaTooSmall, "arena too small for the texture pool");
   for (uint32_t i = 0; i < count_; ++i) {
     slots[i] = Slot{nullptr, 0, 0, kNone, 0, kAbsent, 0};
@@ -230,8 +232,13 @@ const Pixel* TexturePager::cached_lut(uint32_t t, Pixel colour, const uint8_t* b
   Pixel* lut = luts_ + oldest * kTexelLutEntries;
   make_texel_lut(scene_->texture_texels[t], bytes, colour, lut);
   ++lut_clock_made_;
-  lut_keys_[oldest] = LutKey{t, colour, ++lut_clock_};
+  lut_keys_[oldest] = LutKey{t, colour, ++lut_clock_, lut_clock_made_};
   return lut;
+}
+
+void TexturePager::make_lanes(uint32_t t, uint32_t slot) {
+  spread_texel_lut(scene_->texture_texels[t], luts_ + slot * kTexelLutEntries, lanes_ + slot * kTexelLutEntries);
+  lanes_made_[slot] = lut_keys_[slot].made;
 }
 
 }  // namespace ml

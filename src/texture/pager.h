@@ -17,6 +17,7 @@
 #include "core/status.h"
 #include "core/sink.h"
 #include "scene/scene.h"
+#include "texture/sampler.h"
 #include "texture/source.h"
 
 namespace ml {
@@ -91,6 +92,17 @@ class TexturePager {
     if (t == white_texture_ && white_generation_ == lut_clock_made_) return white_;
     return find_white_lut(t, bytes);
   }
+  // The colours of table `lut` of texture t (texel_lut's or white_lut's answer, still valid) in 16-bit
+  // lanes of a 64-bit word (spread_texel_lut), made if needed: the bilinear filters blend them
+  // without spreading each texel. 64-bit hosts only, one beside each table (null on the boards, whose
+  // words are 32 bits); null for a null table. Valid while lut_generation() does not change.
+  static constexpr bool kLanes = sizeof(void*) >= 8;
+  const uint64_t* lanes_of(uint32_t t, const Pixel* lut) {
+    if (!kLanes || !lut) return nullptr;
+    const uint32_t slot = uint32_t(lut - luts_) / kTexelLutEntries;
+    if (lanes_made_[slot] != lut_keys_[slot].made) make_lanes(t, slot);
+    return lanes_ + slot * kTexelLutEntries;
+  }
   // Counts the tables made: a table pointer from texel_lut stays valid while this does not change.
   uint32_t lut_generation() const { return lut_clock_made_; }
 
@@ -113,6 +125,7 @@ class TexturePager {
   void fallback(uint32_t t);
   const Pixel* cached_lut(uint32_t t, Pixel colour, const uint8_t* bytes, bool make);
   const Pixel* find_white_lut(uint32_t t, const uint8_t* bytes);
+  void make_lanes(uint32_t t, uint32_t slot);
 
   const Scene* scene_ = nullptr;
   TextureSource* source_ = nullptr;
@@ -133,6 +146,7 @@ class TexturePager {
     uint32_t texture;  // kNone: empty
     Pixel colour;
     uint32_t touch;
+    uint32_t made;     // lut_clock_made_ once this table was made
   };
   Pixel* luts_ = nullptr;  // kLutSlots tables of kTexelLutEntries
   LutKey lut_keys_[kLutSlots] = {};
@@ -140,6 +154,8 @@ class TexturePager {
   uint32_t lut_clock_made_ = 0;
   uint32_t white_texture_ = kNone, white_generation_ = 0;  // white_lut's last answer
   const Pixel* white_ = nullptr;
+  uint64_t* lanes_ = nullptr;             // lanes_of's tables, one a slot (64-bit hosts)
+  uint32_t lanes_made_[kLanes ? kLutSlots : 1] = {};  // each one's table's LutKey::made when it was made
 };
 
 }  // namespace ml

@@ -70,17 +70,18 @@ __attribute__((always_inline)) inline Pixel texel(const TextureTexels& t, const 
 
 // Texels (x, y) of format F through a make_texel_lut table. A value of its own, so that the loops
 // keep the fields in registers (stores of the colours cannot change them).
-template <TexelFormat F>
+// Entry: Pixel, or on 64-bit hosts a table's colours in lanes (TexturePager::lanes_of).
+template <TexelFormat F, typename Entry = Pixel>
 struct LutTexels {
   const uint8_t* texels;  // the indices (Palette8), levels (Grey4) or colours (Rgb565)
-  const Pixel* lut;
+  const Entry* lut;
   uint32_t row;           // the bytes (Grey4) or texels a row: a product per texel, no shift by a
                           // count (which x86 holds in one register, wanted by the coordinates)
-  LutTexels(const TextureTexels& t, const uint8_t* bytes, const Pixel* table)
+  LutTexels(const TextureTexels& t, const uint8_t* bytes, const Entry* table)
       : texels(bytes + (F == TexelFormat::Palette8 ? 2u * t.palette_size : 0u)),
         lut(table),
         row(F == TexelFormat::Grey4 ? (uint32_t(t.width) + 1) / 2 : t.width) {}
-  __attribute__((always_inline)) Pixel operator()(int32_t x, int32_t y) const {
+  __attribute__((always_inline)) Entry operator()(int32_t x, int32_t y) const {
     const uint32_t row = uint32_t(y) * this->row;
     if (F == TexelFormat::Palette8) return lut[texels[row + uint32_t(x)]];
     if (F == TexelFormat::Grey4) {
@@ -110,6 +111,7 @@ inline Pixel lerp(Pixel a, Pixel b, uint32_t f) {
 using Spread = uint64_t;
 constexpr uint64_t kSpreadMask = 0x000000FF00FF00FFull;
 inline Spread spread(Pixel c) { return (c | (uint64_t(c) << 24)) & kSpreadMask; }
+inline Spread spread(Spread s) { return s; }  // a colour already in lanes (TexturePager::lanes_of)
 inline Pixel unspread(Spread s) { return Pixel(s | (s >> 24)) & 0xFFFFFF; }
 inline Spread lerp_spread(Spread a, Spread b, uint32_t f) {
   return ((a * (256 - f) + b * f + 0x0000008000800080ull) >> 8) & kSpreadMask;
@@ -260,8 +262,14 @@ __attribute__((always_inline)) inline void bilinear_run(const TextureTexels& t, 
   const bool general = true;  // the firmware's code budget: only bilinear()
 #endif
   if (general) {
-    for (int32_t i = 0; i < n; ++i, au += su, av += sv)
-      out[i] = bilinear<Repeat>(t, int32_t(au >> bits), int32_t(av >> bits), fetch);
+    if constexpr (sizeof(decltype(fetch(0, 0))) > sizeof(Pixel)) {  // colours in lanes (lanes_run): as colours
+      const auto colour_at = [&](int32_t x, int32_t y) { return unspread(fetch(x, y)); };
+      for (int32_t i = 0; i < n; ++i, au += su, av += sv)
+        out[i] = bilinear<Repeat>(t, int32_t(au >> bits), int32_t(av >> bits), colour_at);
+    } else {
+      for (int32_t i = 0; i < n; ++i, au += su, av += sv)
+        out[i] = bilinear<Repeat>(t, int32_t(au >> bits), int32_t(av >> bits), fetch);
+    }
     return;
   }
   const int shifts[2] = {bits + 8 - size_bits[0], bits + 8 - size_bits[1]};
@@ -501,6 +509,36 @@ PieceRun piece_run_for(const TextureTexels&, Pixel) {
 }
 #endif
 
+#if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
+// piece_run's bilinear samples through a table of the colour whose colours are already in lanes
+// (TexturePager::lanes_of): the same blends, without spreading each texel.
+using LanesRun = void (*)(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes,
+                          const uint64_t* lanes, int64_t j, int32_t n, Pixel* out);
+template <TexelFormat F, bool Repeat>
+void lanes_run(const TexturePiece& pc, const TexturePlanes& p, const TextureTexels& texture, const uint8_t* bytes,
+               const uint64_t* lanes, int64_t j, int32_t n, Pixel* out) {
+  const TextureTexels t = texture;  // a local copy: its fields stay in registers
+  const LutTexels<F, Spread> fetch(t, bytes, lanes);
+  const int bits = pc.bits;
+  const int64_t au = int64_t(pc.uv[0]) * (int64_t(1) << bits) + pc.step[0] * j;
+  const int64_t av = int64_t(pc.uv[1]) * (int64_t(1) << bits) + pc.step[1] * j;
+  bilinear_run<Repeat>(t, p.size_bits, bits, au, av, pc.step[0], pc.step[1], fetch, n, out);
+}
+template <TexelFormat F>
+LanesRun lanes_run_for(const TextureTexels& t) {
+  const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
+  return repeat ? &lanes_run<F, true> : &lanes_run<F, false>;
+}
+LanesRun lanes_run_of(const TextureTexels& t) {
+  switch (TexelFormat(t.format)) {
+    case TexelFormat::Palette8: return lanes_run_for<TexelFormat::Palette8>(t);
+    case TexelFormat::Grey4: return lanes_run_for<TexelFormat::Grey4>(t);
+    case TexelFormat::Rgb565: return lanes_run_for<TexelFormat::Rgb565>(t);
+    default: return nullptr;
+  }
+}
+#endif
+
 // The run for texture t's format (null: no texels, format None).
 PieceRun piece_run_of(const TextureTexels& t, Pixel after) {
   switch (TexelFormat(t.format)) {
@@ -609,10 +647,72 @@ template <TexelFormat F>
                 Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out) {
   exact_runs<F>(p, t, bytes, lut, lut_colour, colour, rows, [&](int32_t r) { return SampleRun{x, y + r, n}; }, out);
 }
+template <TexelFormat F>  // one row: no loop over rows around its samples
+[[gnu::noinline]] void exact_row(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
+                Pixel colour, int32_t x, int32_t y, int32_t n, Pixel* out) {
+  exact_runs<F>(p, t, bytes, lut, lut_colour, colour, 1, [&](int32_t) { return SampleRun{x, y, n}; }, out);
+}
 template <TexelFormat F>
 [[gnu::noinline]] void exact_list(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                 Pixel colour, const SampleRun* runs, int32_t count, Pixel* out) {
   exact_runs<F>(p, t, bytes, lut, lut_colour, colour, count, [&](int32_t k) { return runs[k]; }, out);
+}
+
+#if UINTPTR_MAX > 0xFFFFFFFFu
+// exact_runs' bilinear samples through the white table with its colours already in lanes
+// (TexturePager::lanes_of): the filter of the texels, then the product, without spreading each
+// texel. Functions of their own, so that exact_runs' loops keep their code.
+template <TexelFormat F, typename RunAt>
+ML_RUN_HELPER void exact_lanes_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const uint64_t* lanes,
+                                    Pixel colour, int32_t count, RunAt run_at, Pixel* out) {
+  const LutTexels<F, Spread> fetch(t, bytes, lanes);
+  const Tint tint = tint_of(colour);
+  const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
+  ExactSteps steps(p);
+  int32_t uv[2];
+  for (int32_t k = 0; k < count; ++k) {
+    const SampleRun run = run_at(k);
+    steps.start(p, run.x, run.y);
+    if (repeat)
+      for (int32_t i = 0; i < run.n; ++i) steps.next(uv), *out++ = bilinear_tinted<true>(t, uv[0], uv[1], fetch, tint);
+    else
+      for (int32_t i = 0; i < run.n; ++i) steps.next(uv), *out++ = bilinear_tinted<false>(t, uv[0], uv[1], fetch, tint);
+  }
+}
+template <TexelFormat F>
+[[gnu::noinline]] void exact_lanes_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const uint64_t* lanes,
+                                        Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out) {
+  exact_lanes_runs<F>(p, t, bytes, lanes, colour, rows, [&](int32_t r) { return SampleRun{x, y + r, n}; }, out);
+}
+template <TexelFormat F>
+[[gnu::noinline]] void exact_lanes_row(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const uint64_t* lanes,
+                                       Pixel colour, int32_t x, int32_t y, int32_t n, Pixel* out) {
+  exact_lanes_runs<F>(p, t, bytes, lanes, colour, 1, [&](int32_t) { return SampleRun{x, y, n}; }, out);
+}
+template <TexelFormat F>
+[[gnu::noinline]] void exact_lanes_list(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const uint64_t* lanes,
+                                        Pixel colour, const SampleRun* runs, int32_t count, Pixel* out) {
+  exact_lanes_runs<F>(p, t, bytes, lanes, colour, count, [&](int32_t k) { return runs[k]; }, out);
+}
+#endif
+
+// texture_rows for a small triangle, format F: one row (the scanline renderer's spans of a few
+// samples, which a loop over rows around them would cost more than) or a block of rows, through the
+// white table's lanes when given (bilinear).
+template <TexelFormat F>
+inline void exact_format_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut,
+                              Pixel lut_colour, Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows,
+                              const uint64_t* lanes, Pixel* out) {
+#if UINTPTR_MAX > 0xFFFFFFFFu
+  if (lanes && lut_colour == 0xFFFFFF && t.filter == uint8_t(TextureFilter::Bilinear)) {
+    if (rows == 1) return exact_lanes_row<F>(p, t, bytes, lanes, colour, x, y, n, out);
+    return exact_lanes_rows<F>(p, t, bytes, lanes, colour, x, y, n, rows, out);
+  }
+#else
+  (void)lanes;
+#endif
+  if (rows == 1) return exact_row<F>(p, t, bytes, lut, lut_colour, colour, x, y, n, out);
+  exact_rows<F>(p, t, bytes, lut, lut_colour, colour, x, y, n, rows, out);
 }
 #endif
 
@@ -654,18 +754,31 @@ void make_texel_lut(const TextureTexels& t, const uint8_t* bytes, Pixel colour, 
   }
 }
 
+void spread_texel_lut(const TextureTexels& t, const Pixel* lut, uint64_t* lanes) {
+#if UINTPTR_MAX > 0xFFFFFFFFu
+  const uint32_t n = t.format == uint8_t(TexelFormat::Grey4) ? 16 : t.format == uint8_t(TexelFormat::Rgb565) ? 128 : kTexelLutEntries;
+  for (uint32_t i = 0; i < n; ++i) lanes[i] = spread(lut[i]);
+#else
+  (void)t, (void)lut, (void)lanes;
+#endif
+}
+
 void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
-                  Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out) {
+                  Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out, const uint64_t* lanes) {
 #ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
   if (p.exact) {
     switch (TexelFormat(t.format)) {
-      case TexelFormat::Palette8: return exact_rows<TexelFormat::Palette8>(p, t, bytes, lut, lut_colour, colour, x, y, n, rows, out);
-      case TexelFormat::Grey4: return exact_rows<TexelFormat::Grey4>(p, t, bytes, lut, lut_colour, colour, x, y, n, rows, out);
-      case TexelFormat::Rgb565: return exact_rows<TexelFormat::Rgb565>(p, t, bytes, lut, lut_colour, colour, x, y, n, rows, out);
+      case TexelFormat::Palette8:
+        return exact_format_rows<TexelFormat::Palette8>(p, t, bytes, lut, lut_colour, colour, x, y, n, rows, lanes, out);
+      case TexelFormat::Grey4:
+        return exact_format_rows<TexelFormat::Grey4>(p, t, bytes, lut, lut_colour, colour, x, y, n, rows, lanes, out);
+      case TexelFormat::Rgb565:
+        return exact_format_rows<TexelFormat::Rgb565>(p, t, bytes, lut, lut_colour, colour, x, y, n, rows, lanes, out);
       default: break;
     }
   }
 #endif
+  (void)lanes;
   const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;  // the product left per sample
 #ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
   // Bilinear runs multiply the white table's texels by `after` before the filter (small triangles,
@@ -687,6 +800,24 @@ void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes
       }
     return;
   }
+#if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
+  if (lanes && after == 0xFFFFFF && t.filter == uint8_t(TextureFilter::Bilinear)) {
+    const LanesRun lanes_run = lanes_run_of(t);
+    if (lanes_run) {
+      for (int32_t r = 0; r < rows; ++r)
+        for (int32_t left = n, xx = x; left > 0;) {
+          const TexturePiece& pc = texture_piece(p, xx, y + r);
+          const int64_t j = xx - pc.x;
+          const int32_t m = min_of(left, int32_t((int64_t(1) << pc.bits) - j));
+          lanes_run(pc, p, t, bytes, lanes, j, m, out);
+          xx += m;
+          left -= m;
+          out += m;
+        }
+      return;
+    }
+  }
+#endif
   const PieceRun run = piece_run_of(t, after);
   if (!run) {
     for (int32_t i = 0; i < n * rows; ++i) out[i] = colour;
@@ -705,9 +836,19 @@ void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes
 }
 
 void texture_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
-                  Pixel colour, const SampleRun* runs, int32_t count, Pixel* out) {
+                  Pixel colour, const SampleRun* runs, int32_t count, Pixel* out, const uint64_t* lanes) {
 #ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
   if (p.exact) {
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    if (lanes && lut_colour == 0xFFFFFF && t.filter == uint8_t(TextureFilter::Bilinear)) {
+      switch (TexelFormat(t.format)) {
+        case TexelFormat::Palette8: return exact_lanes_list<TexelFormat::Palette8>(p, t, bytes, lanes, colour, runs, count, out);
+        case TexelFormat::Grey4: return exact_lanes_list<TexelFormat::Grey4>(p, t, bytes, lanes, colour, runs, count, out);
+        case TexelFormat::Rgb565: return exact_lanes_list<TexelFormat::Rgb565>(p, t, bytes, lanes, colour, runs, count, out);
+        default: break;
+      }
+    }
+#endif
     switch (TexelFormat(t.format)) {
       case TexelFormat::Palette8: return exact_list<TexelFormat::Palette8>(p, t, bytes, lut, lut_colour, colour, runs, count, out);
       case TexelFormat::Grey4: return exact_list<TexelFormat::Grey4>(p, t, bytes, lut, lut_colour, colour, runs, count, out);
@@ -716,6 +857,7 @@ void texture_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes
     }
   }
 #endif
+  (void)lanes;
   for (int32_t k = 0; k < count; ++k) {
     texture_rows(p, t, bytes, lut, lut_colour, colour, runs[k].x, runs[k].y, runs[k].n, 1, out);
     out += runs[k].n;

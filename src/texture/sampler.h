@@ -45,6 +45,10 @@ Pixel sample_texture(const TextureTexels& texture, const uint8_t* bytes, const P
 // modulate_texel(texel, colour).
 constexpr uint32_t kTexelLutEntries = 256;
 void make_texel_lut(const TextureTexels& texture, const uint8_t* bytes, Pixel colour, Pixel* lut);
+// A table of make_texel_lut's (of texture's format) with each colour spread to 16-bit lanes of a
+// 64-bit word (blue, red, green): what the bilinear filters blend on a 64-bit host (TexturePager::
+// lanes_of). Nothing on 32-bit boards.
+void spread_texel_lut(const TextureTexels& texture, const Pixel* lut, uint64_t* lanes);
 
 // The textured colours of lattice samples x .. x + n - 1 of row y (texture coordinates from the
 // planes, the texture's filter and wraps) drawn in `colour`, into out: the same colours as
@@ -52,14 +56,18 @@ void make_texel_lut(const TextureTexels& texture, const uint8_t* bytes, Pixel co
 // make_texel_lut table of this texture for colour `lut_colour`, or null (texels decoded one by one);
 // lut_colour is either `colour` (no product per sample) or white (the product per texel, or per
 // sample: a small triangle's bilinear filter). A small triangle's planes (TexturePlanes::exact) take
-// the exact coordinates at every sample.
+// the exact coordinates at every sample. lanes: lut's colours in lanes (TexturePager::lanes_of), or
+// null; a bilinear filter that blends lut's colours as they are takes them from there (the same
+// colours; 64-bit hosts).
 // texture_rows: `rows` such rows (y, y + 1, ...) of n samples each, one after another in out (the
 // format, filter and wraps looked at once for them all: the tiler's blocks).
 void texture_rows(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
-                  Pixel lut_colour, Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out);
+                  Pixel lut_colour, Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out,
+                  const uint64_t* lanes = nullptr);
 inline void texture_row(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
-                        Pixel lut_colour, Pixel colour, int32_t x, int32_t y, int32_t n, Pixel* out) {
-  texture_rows(planes, texture, bytes, lut, lut_colour, colour, x, y, n, 1, out);
+                        Pixel lut_colour, Pixel colour, int32_t x, int32_t y, int32_t n, Pixel* out,
+                        const uint64_t* lanes = nullptr) {
+  texture_rows(planes, texture, bytes, lut, lut_colour, colour, x, y, n, 1, out, lanes);
 }
 
 // Samples x .. x + n - 1 of lattice row y.
@@ -69,6 +77,7 @@ struct SampleRun {
 // texture_row for each of `count` runs, their colours one after another in out: the tiler's block of
 // a small triangle, a few short runs (the format and the table looked at once for them all).
 void texture_runs(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
-                  Pixel lut_colour, Pixel colour, const SampleRun* runs, int32_t count, Pixel* out);
+                  Pixel lut_colour, Pixel colour, const SampleRun* runs, int32_t count, Pixel* out,
+                  const uint64_t* lanes = nullptr);
 
 }  // namespace ml

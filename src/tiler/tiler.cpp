@@ -311,6 +311,13 @@ class BandWriter : public CoverageWriter {
     }
   }
 
+  // The current table's colours in lanes (TexturePager::lanes_of) where a bilinear filter blends
+  // them as they are: the white table of a small triangle, or a table of the piece's colour.
+  const uint64_t* lanes_for(const TextureTexels& t, bool small) {
+    if (t.filter != uint8_t(TextureFilter::Bilinear) || lut_colour_ != (small ? 0xFFFFFF : colors_.flat)) return nullptr;
+    return pager_->lanes_of(texture_, lut_);
+  }
+
   // An 8x8 block's newly covered samples (mask) of a small flat textured triangle, its runs of rows in
   // one texture_runs: no rectangles through write() (its block is a few short rows). False for other
   // pieces, or when the pager falls back (the caller's runs then draw them).
@@ -334,7 +341,8 @@ class BandWriter : public CoverageWriter {
       mask &= ~(((uint64_t(1) << run) - 1) << at);
     }
     // One texture_runs for the block, then its runs out.
-    texture_runs(planes, scene_->texture_texels[texture_], bytes, lut_, lut_colour_, colors_.flat, runs, count, row_);
+    const TextureTexels& t = scene_->texture_texels[texture_];
+    texture_runs(planes, t, bytes, lut_, lut_colour_, colors_.flat, runs, count, row_, lanes_for(t, true));
     const Pixel* colours = row_;
     for (int32_t k = 0; k < count; ++k) {
       out_.put_row(runs[k].x, runs[k].y, colours, runs[k].n);
@@ -362,11 +370,12 @@ class BandWriter : public CoverageWriter {
     lookup_lut(bytes, uint32_t(w) * uint32_t(h), planes.exact);
     const Pixel* lut = lut_;
     const Pixel lut_colour = lut_colour_;
+    const uint64_t* lanes = lanes_for(t, planes.exact);
     if (w <= kRowPixels) {  // as many whole rows at once as the row buffer holds
       const int per = kRowPixels / w;
       for (int yy = y; yy < y + h; yy += per) {
         const int rows = min_of(per, y + h - yy);
-        texture_rows(planes, t, bytes, lut, lut_colour, colors_.flat, x, yy, w, rows, row_);
+        texture_rows(planes, t, bytes, lut, lut_colour, colors_.flat, x, yy, w, rows, row_, lanes);
         for (int r = 0; r < rows; ++r) out_.put_row(x, yy + r, row_ + r * w, w);
       }
       return;
@@ -374,7 +383,7 @@ class BandWriter : public CoverageWriter {
     for (int yy = y; yy < y + h; ++yy)
       for (int x0 = x; x0 < x + w; x0 += kRowPixels) {
         const int n = min_of(kRowPixels, x + w - x0);
-        texture_row(planes, t, bytes, lut, lut_colour, colors_.flat, x0, yy, n, row_);
+        texture_row(planes, t, bytes, lut, lut_colour, colors_.flat, x0, yy, n, row_, lanes);
         out_.put_row(x0, yy, row_, n);
       }
   }
@@ -794,6 +803,25 @@ Status check_options(const Camera& camera, const RenderOptions& options) {
   return BandOutput::check(options.output);
 }
 
+// triangle_texture by a triangle's batch, the last batch's answer kept: a mesh's triangles come batch
+// by batch, so the material is looked up about once a batch.
+class BatchTextures {
+ public:
+  explicit BatchTextures(const Scene& scene) : scene_(scene) {}
+  uint32_t of(uint32_t batch) {
+    if (batch != batch_) {
+      batch_ = batch;
+      const Material& m = scene_.materials[scene_.batches[batch].material];
+      texture_ = material_texels(scene_, m) ? m.texture : kNone;
+    }
+    return texture_;
+  }
+
+ private:
+  const Scene& scene_;
+  uint32_t batch_ = kNone, texture_ = kNone;
+};
+
 // When each texture is needed next in the tiler's order of work: bands top to bottom, each walking
 // the BSP front to back — the same walk in every band, so pieces are numbered once. Planned before
 // drawing (the textured triangles' rows, one walk of the whole BSP for each texture's first and last
@@ -821,9 +849,22 @@ class TexturePlan : public TextureNextUse {
     first_row_[t] = min_of(first_row_[t], first);
     last_row_[t] = max_of(last_row_[t], last);
   }
-  void piece(uint32_t t, uint32_t k) {
+  // Piece k of the walk is texture t's: true when it is the first one t was given.
+  bool piece(uint32_t t, uint32_t k) {
+    const bool first = first_piece_[t] == kNone;
     first_piece_[t] = min_of(first_piece_[t], k);
     last_piece_[t] = max_of(last_piece_[t], k);
+    return first;
+  }
+  // For a walk from the back once every texture has a piece: the last pieces forgotten, then piece k
+  // of that walk is texture t's, true when it is t's last (the first so given).
+  void forget_last_pieces() {
+    for (uint32_t t = 0; t < count_; ++t) last_piece_[t] = kNone;
+  }
+  bool last_piece(uint32_t t, uint32_t k) {
+    if (last_piece_[t] != kNone) return false;
+    last_piece_[t] = k;
+    return true;
   }
   // Where the work is: band `band` of `band_rows` rows (pixels [top, top + rows)), piece k of the walk.
   void at_band(int band, int band_rows, int top, int rows) {
@@ -1066,7 +1107,12 @@ class TilerFrame {
   void part_box(const ScreenTriangle& part, ConvexPoly* poly) const;
   // Plans each texture's rows from the textured triangles' projected extent, and its first and last
   // piece in the BSP walk (TexturePlan).
-  void plan_textures();
+  ML_HOST_NOINLINE void plan_textures();
+  bool projected_rows(const Vec3i world[3], int facing, int32_t* first, int32_t* last) const;
+  // visit(piece, k) for the pieces in the drawing walk's order (k: 0, 1, ...), or backwards (k from the
+  // last down), until it returns false.
+  template <bool kBackwards, typename Visit>
+  void walk_pieces(Visit visit);
   // The node's children ordered for a front-to-back walk: the one on the eye's side of its plane
   // first (kNone where there is none). One side test a visit, shared by the drawing walk and the plan's.
   void children(const BspNode& node, uint32_t* near, uint32_t* far) const;
@@ -1230,30 +1276,74 @@ int TilerFrame::rows_at_once(size_t spare) const {
 
 void TilerFrame::plan_textures() {
   if (!pager_.active()) return;
+  BatchTextures textures(scene_);
   for (uint32_t id = 0; id < scene_.triangle_count; ++id) {
-    const uint32_t texture = triangle_texture(scene_, id);
+    const Triangle tri = triangle_at(scene_, id);
+    const uint32_t texture = kVertexCache ? textures.of(tri.batch) : triangle_texture(scene_, id);  // (boards: flash)
     if (texture == kNone) continue;
     Vec3i world[3];
-    triangle_world(scene_, id, world);
+    vertices_world(scene_, tri.batch, tri.v, world);
     const int facing = triangle_facing(view_, world);
-    const Material& mat = scene_.materials[scene_.batches[triangle_at(scene_, id).batch].material];
+    const Material& mat = scene_.materials[scene_.batches[tri.batch].material];
     if (facing == 0 || (facing < 0 && !mat.double_sided)) continue;
-    ScreenTriangle parts[kMaxClipTriangles];
-    const int n = project_triangle(view_, world, facing, parts, false);
-    int32_t first = INT32_MAX, last = -1;
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < 3; ++j) {
-        first = min_of(first, parts[i].v[j].y);
-        last = max_of(last, parts[i].v[j].y);
-      }
-    if (n == 0 || last < 0) continue;
+    int32_t first, last;
+    if (!projected_rows(world, facing, &first, &last) || last < 0) continue;
     // BSP pieces are quantized split points of the triangle: a pixel of margin covers them.
     const uint32_t last_row = uint32_t(min_of(last / kSubpixelOne + 1, camera_.height - 1));
     pager_.plan(texture, last_row);
     texture_plan_.rows(texture, uint32_t(max_of(first / kSubpixelOne - 1, 0)), last_row);
   }
   pager_.finish_plan();
-  // The walk's order, once for the frame: each texture's first and last piece.
+  // Each texture's first and last piece in the walk's order, once for the frame. On 64-bit hosts the
+  // walk ends once every texture has a piece, and a walk from the back finds the last pieces (the
+  // duck: one piece each way instead of its 8,544); the boards walk it all (flash).
+  const uint32_t count = scene_.texture_texels_count;
+  uint32_t found = 0;
+  walk_pieces<false>([&](uint32_t p, uint32_t k) {
+    const uint32_t triangle = bsp_piece(scene_, p).triangle;
+    const uint32_t texture = kVertexCache ? textures.of(triangle_at(scene_, triangle).batch) : triangle_texture(scene_, triangle);
+    if (texture != kNone && texture_plan_.piece(texture, k)) ++found;
+    return !kVertexCache || found < count;
+  });
+  if (kVertexCache && found == count) {
+    found = 0;
+    texture_plan_.forget_last_pieces();
+    walk_pieces<true>([&](uint32_t p, uint32_t k) {
+      const uint32_t texture = textures.of(triangle_at(scene_, bsp_piece(scene_, p).triangle).batch);
+      if (texture != kNone && texture_plan_.last_piece(texture, k)) ++found;
+      return found < count;
+    });
+  }
+  pager_.use_next_use(&texture_plan_);
+}
+
+// The rows (subpixels) a facing triangle's projection spans; false when it projects to nothing. On
+// 64-bit hosts an unclipped triangle's rows come from its vertices' view (project_triangle's, with
+// its test of the snapped area) without building its screen triangle.
+bool TilerFrame::projected_rows(const Vec3i world[3], int facing, int32_t* first, int32_t* last) const {
+  ViewTriangle view;
+  view_triangle(view_, world, &view);
+  if (kVertexCache && view.unclipped) {
+    const int64_t area2 = (view.ox[1] - view.ox[0]) * (view.oy[2] - view.oy[0]) -
+                          (view.ox[2] - view.ox[0]) * (view.oy[1] - view.oy[0]);
+    *first = int32_t(view_.center_y + min_of(view.oy[0], min_of(view.oy[1], view.oy[2])));
+    *last = int32_t(view_.center_y + max_of(view.oy[0], max_of(view.oy[1], view.oy[2])));
+    return area2 != 0;
+  }
+  ScreenTriangle parts[kMaxClipTriangles];
+  const int n = project_triangle(view_, view, facing, parts, false);
+  *first = INT32_MAX, *last = -1;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < 3; ++j) {
+      *first = min_of(*first, parts[i].v[j].y);
+      *last = max_of(*last, parts[i].v[j].y);
+    }
+  return n > 0;
+}
+
+template <bool kBackwards, typename Visit>
+void TilerFrame::walk_pieces(Visit visit) {
+  const uint32_t total = kBackwards && scene_.bsp_node_count ? node_at(0).subtree_pieces : 0;
   size_t sp = 0;
   uint32_t k = 0, visits = 0;
   stack_[sp++] = 0;
@@ -1263,21 +1353,19 @@ void TilerFrame::plan_textures() {
     if (index >= scene_.bsp_node_count) break;
     const BspNode node = node_at(index);
     uint32_t near, far;
-    children(node, &near, &far);
+    children(node, kBackwards ? &far : &near, kBackwards ? &near : &far);
     if (!(f & kNearDone)) {
       f |= kNearDone;
       if (near != kNone && sp < stack_cap_) stack_[sp++] = near;
       continue;
     }
-    for (uint32_t p = node.first_piece; p < node.first_piece + node.piece_count; ++p, ++k) {
-      const uint32_t texture = triangle_texture(scene_, bsp_piece(scene_, p).triangle);
-      if (texture != kNone) texture_plan_.piece(texture, k);
+    for (uint32_t i = 0; i < node.piece_count; ++i, ++k) {
+      const uint32_t p = kBackwards ? node.first_piece + node.piece_count - 1 - i : node.first_piece + i;
+      if (!visit(p, kBackwards ? total - 1 - k : k)) return;
     }
     if (far != kNone) f = far; else --sp;
   }
-  pager_.use_next_use(&texture_plan_);
 }
-
 void TilerFrame::children(const BspNode& node, uint32_t* near, uint32_t* far) const {
   const int64_t side = int64_t(node.normal[0]) * view_.eye.x + int64_t(node.normal[1]) * view_.eye.y +
                        int64_t(node.normal[2]) * view_.eye.z - node.d;
