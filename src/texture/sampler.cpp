@@ -584,6 +584,23 @@ Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut,
 // one. (The firmware, ML_TEXTURE_RUNS_GENERAL_ONLY, for its code budget: texture_rows' samples one
 // by one, each exact.)
 // The runs: run_at(k) for k < count (texture_rows' rows, texture_runs' runs).
+// Bilinear samples along the runs at exact coordinates (ExactSteps), each the filter of the texels
+// `fetch` gives, then multiplied by `tint`.
+template <typename Fetch, typename RunAt>
+ML_RUN_HELPER void bilinear_runs(TexturePlanes& p, const TextureTexels& t, const Fetch& fetch, const Tint& tint, bool repeat,
+                                 int32_t count, RunAt run_at, Pixel* out) {
+  ExactSteps steps(p);
+  int32_t uv[2];
+  for (int32_t k = 0; k < count; ++k) {
+    const SampleRun run = run_at(k);
+    steps.start(p, run.x, run.y);
+    if (repeat)
+      for (int32_t i = 0; i < run.n; ++i) steps.next(uv), *out++ = bilinear_tinted<true>(t, uv[0], uv[1], fetch, tint);
+    else
+      for (int32_t i = 0; i < run.n; ++i) steps.next(uv), *out++ = bilinear_tinted<false>(t, uv[0], uv[1], fetch, tint);
+  }
+}
+
 template <TexelFormat F, typename RunAt>
 ML_RUN_HELPER void exact_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                 Pixel colour, int32_t count, RunAt run_at, Pixel* out) {
@@ -620,15 +637,7 @@ ML_RUN_HELPER void exact_runs(TexturePlanes& p, const TextureTexels& t, const ui
     return;
   }
   if (lut && lut_colour == 0xFFFFFF) {  // bilinear: the filter of the texels, then the product, as sample_texture
-    const Tint tint = tint_of(colour);
-    for (int32_t k = 0; k < count; ++k) {
-      const SampleRun run = run_at(k);
-      steps.start(p, run.x, run.y);
-      if (repeat)
-        for (int32_t i = 0; i < run.n; ++i) steps.next(uv), *out++ = bilinear_tinted<true>(t, uv[0], uv[1], fetch, tint);
-      else
-        for (int32_t i = 0; i < run.n; ++i) steps.next(uv), *out++ = bilinear_tinted<false>(t, uv[0], uv[1], fetch, tint);
-    }
+    bilinear_runs(p, t, fetch, tint_of(colour), repeat, count, run_at, out);
     return;
   }
   for (int32_t k = 0; k < count; ++k) {
@@ -666,18 +675,8 @@ template <TexelFormat F, typename RunAt>
 ML_RUN_HELPER void exact_lanes_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const uint64_t* lanes,
                                     Pixel colour, int32_t count, RunAt run_at, Pixel* out) {
   const LutTexels<F, Spread> fetch(t, bytes, lanes);
-  const Tint tint = tint_of(colour);
   const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
-  ExactSteps steps(p);
-  int32_t uv[2];
-  for (int32_t k = 0; k < count; ++k) {
-    const SampleRun run = run_at(k);
-    steps.start(p, run.x, run.y);
-    if (repeat)
-      for (int32_t i = 0; i < run.n; ++i) steps.next(uv), *out++ = bilinear_tinted<true>(t, uv[0], uv[1], fetch, tint);
-    else
-      for (int32_t i = 0; i < run.n; ++i) steps.next(uv), *out++ = bilinear_tinted<false>(t, uv[0], uv[1], fetch, tint);
-  }
+  bilinear_runs(p, t, fetch, tint_of(colour), repeat, count, run_at, out);
 }
 template <TexelFormat F>
 [[gnu::noinline]] void exact_lanes_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const uint64_t* lanes,

@@ -1004,6 +1004,16 @@ TEST(TilerCull, OfficeMatchesUnculledRender) {
   EXPECT_GT(culled_total, hint.stats.bsp_subtrees_culled);
 }
 
+// One frame in the least arena, or with the spare bytes too, the arena poisoned first.
+Frame render_frame(const ml::Scene& s, const ml::Camera& cam, const ml::RenderOptions& opt, bool spare) {
+  Frame f;
+  const size_t bytes = ml::render_arena_bytes(s, cam, opt) + (spare ? ml::render_spare_bytes(s, cam, opt) : 0);
+  std::vector<uint8_t> mem(bytes, mlhost::kPoisonByte);
+  ml::Arena arena(mem.data(), mem.size());
+  f.status = ml::render(s, cam, opt, arena, f.sink, &f.stats);
+  return f;
+}
+
 // Culled and unculled frames of a scene from one camera, 8-row bands, with and without the band plan
 // (the arena's spare bytes; each has its own threshold): equal images; returns the subtrees culled.
 uint32_t expect_same_with_and_without_plan(const ml::Scene& scene, const ml::Camera& cam) {
@@ -1015,16 +1025,8 @@ uint32_t expect_same_with_and_without_plan(const ml::Scene& scene, const ml::Cam
     opt.shading = ml::ShadingMode::Ids;
     opt.output.band_rows = 8;
     opt.output.render_rows = render_rows;
-    auto run = [&](const ml::Scene& s) {
-      Frame f;
-      const size_t bytes = ml::render_arena_bytes(s, cam, opt) + (spare ? ml::render_spare_bytes(s, cam, opt) : 0);
-      std::vector<uint8_t> mem(bytes, mlhost::kPoisonByte);
-      ml::Arena arena(mem.data(), mem.size());
-      f.status = ml::render(s, cam, opt, arena, f.sink, &f.stats);
-      return f;
-    };
-    const Frame culled = run(scene);
-    expect_same_frame(culled, run(plain.scene), cam);
+    const Frame culled = render_frame(scene, cam, opt, spare);
+    expect_same_frame(culled, render_frame(plain.scene, cam, opt, spare), cam);
     culled_total += culled.stats.bsp_subtrees_culled;
   }
   return culled_total;
@@ -1087,16 +1089,8 @@ TEST(TilerCull, AntialiasedFramesMatchUnculledRender) {
       const bool spare = variant < 6;  // the least arena: no kept rectangles
       opt.output.band_rows = variant < 3 ? 16 : 8;
       opt.output.render_rows = variant < 3 ? 0 : 8;
-      auto run = [&](const ml::Scene& s) {
-        Frame f;
-        const size_t bytes = ml::render_arena_bytes(s, cam, opt) + (spare ? ml::render_spare_bytes(s, cam, opt) : 0);
-        std::vector<uint8_t> mem(bytes, mlhost::kPoisonByte);
-        ml::Arena arena(mem.data(), mem.size());
-        f.status = ml::render(s, cam, opt, arena, f.sink, &f.stats);
-        return f;
-      };
-      const Frame culled = run(*scene);
-      expect_same_frame(culled, run(plain.scene), cam);
+      const Frame culled = render_frame(*scene, cam, opt, spare);
+      expect_same_frame(culled, render_frame(plain.scene, cam, opt, spare), cam);
       culled_total += culled.stats.bsp_subtrees_culled;
     }
   }
