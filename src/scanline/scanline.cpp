@@ -692,11 +692,9 @@ struct Renderer {
     const Pixel c = a.color[0];
     TexturePlanes& planes = planes_of(slot, a.id);
     if (planes.exact) {
-      const TextureTexels& t = scene->texture_texels[texture];
-      const bool bilinear = t.filter == uint8_t(TextureFilter::Bilinear);
       const Pixel* white = pager.white_lut(texture, bytes);
-      texture_row(planes, t, bytes, white, 0xFFFFFF, c, x0, y, int32_t(n), out,
-                  bilinear ? pager.lanes_of(texture, white) : nullptr);
+      texture_row(planes, scene->texture_texels[texture], bytes, white, 0xFFFFFF, c, x0, y, int32_t(n), out,
+                  pager.lanes_for(texture, white, 0xFFFFFF, c, true));
       return true;
     }
     SlotLut& l = tex_lut[slot];
@@ -707,10 +705,8 @@ struct Renderer {
       l.generation = pager.lut_generation();
       l.untabled = 0;
     }
-    const TextureTexels& t = scene->texture_texels[texture];
-    const bool lanes = t.filter == uint8_t(TextureFilter::Bilinear) && l.lut_colour == c;  // blended as they are
-    texture_row(planes, t, bytes, l.lut, l.lut_colour, c, x0, y, int32_t(n), out,
-                lanes ? pager.lanes_of(texture, l.lut) : nullptr);
+    texture_row(planes, scene->texture_texels[texture], bytes, l.lut, l.lut_colour, c, x0, y, int32_t(n), out,
+                pager.lanes_for(texture, l.lut, l.lut_colour, c, false));
     return true;
   }
   bool textured(uint32_t slot) const { return tex_of && tex_of[slot] != kNone; }

@@ -103,6 +103,12 @@ class TexturePager {
     if (lanes_made_[slot] != lut_keys_[slot].made) make_lanes(t, slot);
     return lanes_ + slot * kTexelLutEntries;
   }
+  // lanes_of where texture_rows / texture_runs take them (blends_table_as_is), else null: a table
+  // of texture t for lut_colour, drawn in `colour`, for exact planes (a small triangle) or not.
+  const uint64_t* lanes_for(uint32_t t, const Pixel* lut, Pixel lut_colour, Pixel colour, bool exact) {
+    if (!kLanes || !blends_table_as_is(scene_->texture_texels[t], exact, lut_colour, colour)) return nullptr;
+    return lanes_of(t, lut);
+  }
   // Counts the tables made: a table pointer from texel_lut stays valid while this does not change.
   uint32_t lut_generation() const { return lut_clock_made_; }
 

@@ -703,7 +703,7 @@ inline void exact_format_rows(TexturePlanes& p, const TextureTexels& t, const ui
                               Pixel lut_colour, Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows,
                               const uint64_t* lanes, Pixel* out) {
 #if UINTPTR_MAX > 0xFFFFFFFFu
-  if (lanes && lut_colour == 0xFFFFFF && t.filter == uint8_t(TextureFilter::Bilinear)) {
+  if (lanes && blends_table_as_is(t, true, lut_colour, colour)) {
     if (rows == 1) return exact_lanes_row<F>(p, t, bytes, lanes, colour, x, y, n, out);
     return exact_lanes_rows<F>(p, t, bytes, lanes, colour, x, y, n, rows, out);
   }
@@ -762,6 +762,24 @@ void spread_texel_lut(const TextureTexels& t, const Pixel* lut, uint64_t* lanes)
 #endif
 }
 
+namespace {
+// Samples x .. x + n - 1 of `rows` rows (one after another in out), a run of each planes' piece
+// (texture_piece) at a time: run(piece, j, m, out) draws m samples from the piece's j-th into out.
+template <typename Run>
+ML_RUN_HELPER void piece_runs(TexturePlanes& p, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out, Run run) {
+  for (int32_t r = 0; r < rows; ++r)
+    for (int32_t left = n, xx = x; left > 0;) {
+      const TexturePiece& pc = texture_piece(p, xx, y + r);
+      const int64_t j = xx - pc.x;
+      const int32_t m = min_of(left, int32_t((int64_t(1) << pc.bits) - j));
+      run(pc, j, m, out);
+      xx += m;
+      left -= m;
+      out += m;
+    }
+}
+}  // namespace
+
 void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                   Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out, const uint64_t* lanes) {
 #ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
@@ -800,19 +818,12 @@ void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes
     return;
   }
 #if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
-  if (lanes && after == 0xFFFFFF && t.filter == uint8_t(TextureFilter::Bilinear)) {
+  if (lanes && blends_table_as_is(t, false, lut_colour, colour)) {
     const LanesRun lanes_run = lanes_run_of(t);
     if (lanes_run) {
-      for (int32_t r = 0; r < rows; ++r)
-        for (int32_t left = n, xx = x; left > 0;) {
-          const TexturePiece& pc = texture_piece(p, xx, y + r);
-          const int64_t j = xx - pc.x;
-          const int32_t m = min_of(left, int32_t((int64_t(1) << pc.bits) - j));
-          lanes_run(pc, p, t, bytes, lanes, j, m, out);
-          xx += m;
-          left -= m;
-          out += m;
-        }
+      piece_runs(p, x, y, n, rows, out, [&](const TexturePiece& pc, int64_t j, int32_t m, Pixel* o) {
+        lanes_run(pc, p, t, bytes, lanes, j, m, o);
+      });
       return;
     }
   }
@@ -822,16 +833,9 @@ void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes
     for (int32_t i = 0; i < n * rows; ++i) out[i] = colour;
     return;
   }
-  for (int32_t r = 0; r < rows; ++r)
-    for (int32_t left = n, xx = x; left > 0;) {
-      const TexturePiece& pc = texture_piece(p, xx, y + r);
-      const int64_t j = xx - pc.x;
-      const int32_t m = min_of(left, int32_t((int64_t(1) << pc.bits) - j));
-      run(pc, p, t, bytes, lut, after, j, m, out);
-      xx += m;
-      left -= m;
-      out += m;
-    }
+  piece_runs(p, x, y, n, rows, out, [&](const TexturePiece& pc, int64_t j, int32_t m, Pixel* o) {
+    run(pc, p, t, bytes, lut, after, j, m, o);
+  });
 }
 
 void texture_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
@@ -839,7 +843,7 @@ void texture_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes
 #ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
   if (p.exact) {
 #if UINTPTR_MAX > 0xFFFFFFFFu
-    if (lanes && lut_colour == 0xFFFFFF && t.filter == uint8_t(TextureFilter::Bilinear)) {
+    if (lanes && blends_table_as_is(t, true, lut_colour, colour)) {
       switch (TexelFormat(t.format)) {
         case TexelFormat::Palette8: return exact_lanes_list<TexelFormat::Palette8>(p, t, bytes, lanes, colour, runs, count, out);
         case TexelFormat::Grey4: return exact_lanes_list<TexelFormat::Grey4>(p, t, bytes, lanes, colour, runs, count, out);

@@ -49,6 +49,12 @@ void make_texel_lut(const TextureTexels& texture, const uint8_t* bytes, Pixel co
 // 64-bit word (blue, red, green): what the bilinear filters blend on a 64-bit host (TexturePager::
 // lanes_of). Nothing on 32-bit boards.
 void spread_texel_lut(const TextureTexels& texture, const Pixel* lut, uint64_t* lanes);
+// Whether texture_rows / texture_runs blend a table's colours as they are, so that they take its lanes:
+// a bilinear texture's white table for a small triangle (exact planes: the filter, then the product),
+// or a table of the colour drawn.
+inline bool blends_table_as_is(const TextureTexels& texture, bool exact, Pixel lut_colour, Pixel colour) {
+  return texture.filter == uint8_t(TextureFilter::Bilinear) && lut_colour == (exact ? 0xFFFFFFu : colour);
+}
 
 // The textured colours of lattice samples x .. x + n - 1 of row y (texture coordinates from the
 // planes, the texture's filter and wraps) drawn in `colour`, into out: the same colours as

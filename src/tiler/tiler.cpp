@@ -311,13 +311,6 @@ class BandWriter : public CoverageWriter {
     }
   }
 
-  // The current table's colours in lanes (TexturePager::lanes_of) where a bilinear filter blends
-  // them as they are: the white table of a small triangle, or a table of the piece's colour.
-  const uint64_t* lanes_for(const TextureTexels& t, bool small) {
-    if (t.filter != uint8_t(TextureFilter::Bilinear) || lut_colour_ != (small ? 0xFFFFFF : colors_.flat)) return nullptr;
-    return pager_->lanes_of(texture_, lut_);
-  }
-
   // An 8x8 block's newly covered samples (mask) of a small flat textured triangle, its runs of rows in
   // one texture_runs: no rectangles through write() (its block is a few short rows). False for other
   // pieces, or when the pager falls back (the caller's runs then draw them).
@@ -342,7 +335,8 @@ class BandWriter : public CoverageWriter {
     }
     // One texture_runs for the block, then its runs out.
     const TextureTexels& t = scene_->texture_texels[texture_];
-    texture_runs(planes, t, bytes, lut_, lut_colour_, colors_.flat, runs, count, row_, lanes_for(t, true));
+    texture_runs(planes, t, bytes, lut_, lut_colour_, colors_.flat, runs, count, row_,
+                 pager_->lanes_for(texture_, lut_, lut_colour_, colors_.flat, true));
     const Pixel* colours = row_;
     for (int32_t k = 0; k < count; ++k) {
       out_.put_row(runs[k].x, runs[k].y, colours, runs[k].n);
@@ -370,7 +364,7 @@ class BandWriter : public CoverageWriter {
     lookup_lut(bytes, uint32_t(w) * uint32_t(h), planes.exact);
     const Pixel* lut = lut_;
     const Pixel lut_colour = lut_colour_;
-    const uint64_t* lanes = lanes_for(t, planes.exact);
+    const uint64_t* lanes = pager_->lanes_for(texture_, lut, lut_colour, colors_.flat, planes.exact);
     if (w <= kRowPixels) {  // as many whole rows at once as the row buffer holds
       const int per = kRowPixels / w;
       for (int yy = y; yy < y + h; yy += per) {
