@@ -92,19 +92,24 @@ class RowSpans {
     *first = lo;
     *last = hi;
   }
-  // Whether the crossing edges are at most two left bounds and two right bounds and no level one
-  // (most triangles' and clipped parts'): rows() then steps them in registers, not through the arrays.
-  bool two_by_two() const { return lower_n_ <= 2 && upper_n_ <= 2 && level_n_ == 0; }
+  // Whether the crossing edges are at most three left bounds and three right bounds and no level
+  // one (triangles have two a side at most; a split piece clipped to its triangle, three):
+  // rows() then steps them in locals, not through the arrays.
+  bool in_registers() const { return lower_n_ <= 3 && upper_n_ <= 3 && level_n_ == 0; }
   // row() for rows 0..count-1 in turn, handing each row's span to emit(row, first, last) (none when
-  // first > last). Only when two_by_two(); one loop for each count of left and right bounds.
+  // first > last). Only when in_registers(); one loop for each count of left and right bounds.
   template <class Emit>
   void rows(int count, int32_t last_column, Emit emit) {
-    if (lower_n_ == 2) {
-      if (upper_n_ == 2) rows_of<2, 2>(count, last_column, emit);
-      else rows_of<2, 1>(count, last_column, emit);
-    } else {
-      if (upper_n_ == 2) rows_of<1, 2>(count, last_column, emit);
-      else rows_of<1, 1>(count, last_column, emit);
+    switch (lower_n_ * 4 + upper_n_) {
+      case 0: case 1: case 4: case 5: return rows_of<1, 1>(count, last_column, emit);
+      case 2: case 6: return rows_of<1, 2>(count, last_column, emit);
+      case 3: case 7: return rows_of<1, 3>(count, last_column, emit);
+      case 8: case 9: return rows_of<2, 1>(count, last_column, emit);
+      case 10: return rows_of<2, 2>(count, last_column, emit);
+      case 11: return rows_of<2, 3>(count, last_column, emit);
+      case 12: case 13: return rows_of<3, 1>(count, last_column, emit);
+      case 14: return rows_of<3, 2>(count, last_column, emit);
+      default: return rows_of<3, 3>(count, last_column, emit);
     }
   }
 
@@ -114,19 +119,27 @@ class RowSpans {
   template <int kLower, int kUpper, class Emit>
   void rows_of(int count, int32_t last_column, Emit emit) {
     const Bound none{1, int32_t(1) << 30, 0, 0, 0};
-    Bound l0 = lower_n_ > 0 ? lower_[0] : none, l1 = kLower == 2 ? lower_[1] : none;
-    Bound u0 = upper_n_ > 0 ? upper_[0] : none, u1 = kUpper == 2 ? upper_[1] : none;
+    Bound l0 = lower_n_ > 0 ? lower_[0] : none, l1 = kLower >= 2 ? lower_[1] : none, l2 = kLower == 3 ? lower_[2] : none;
+    Bound u0 = upper_n_ > 0 ? upper_[0] : none, u1 = kUpper >= 2 ? upper_[1] : none, u2 = kUpper == 3 ? upper_[2] : none;
     for (int y = 0; y < count; ++y) {
       int32_t first = max_of(int32_t(0), -l0.q), last = min_of(last_column, u0.q);
       l0.next_row();
       u0.next_row();
-      if (kLower == 2) {
+      if (kLower >= 2) {
         first = max_of(first, -l1.q);
         l1.next_row();
       }
-      if (kUpper == 2) {
+      if (kLower == 3) {
+        first = max_of(first, -l2.q);
+        l2.next_row();
+      }
+      if (kUpper >= 2) {
         last = min_of(last, u1.q);
         u1.next_row();
+      }
+      if (kUpper == 3) {
+        last = min_of(last, u2.q);
+        u2.next_row();
       }
       if (first <= last) emit(y, first, last);
     }
@@ -665,7 +678,7 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
     for (int i = (first + s) >> 3; i <= (last + s) >> 3; ++i) cover[j][i] |= uint64_t(row.byte(i)) << shift;
   };
   const int count = poly.max_y - poly.min_y + 1;
-  if (kRowsInRegisters && rows.two_by_two()) {
+  if (kRowsInRegisters && rows.in_registers()) {
     rows.rows(count, last_column, place);
   } else {
     for (int y = 0; y < count; ++y) {

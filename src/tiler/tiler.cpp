@@ -467,12 +467,6 @@ bool is_split_piece(const BspPiece& piece, const Triangle& tri) {
   return false;
 }
 
-// Whether v lies within `tol` subpixels of the edge's line (|E| <= tol (|a| + |b|) bounds the
-// distance by tol).
-bool near_edge(const EdgeFunction& e, const ScreenVertex& v, int64_t tol) {
-  return abs64(e.at(v.x, v.y)) <= tol * (abs64(e.a) + abs64(e.b));
-}
-
 // How far a split vertex may sit from its triangle's edge on screen: three world units (a batch's
 // int16 grid and the rounding of vertex_world move a vertex by up to about 1.5) projected at the
 // nearer endpoint's depth, at least two subpixels, at most half a pixel.
@@ -484,15 +478,24 @@ int64_t split_tolerance(const View& view, const ScreenVertex& p, const ScreenVer
 // whole: the triangle's polygon and box in samples; grow: samples a pixel; width, height: samples.
 void clip_to_triangle(const View& view, const ScreenTriangle& part, const ConvexPoly& whole, int grow,
                       int width, int height, ConvexPoly* poly) {
+  // A piece edge runs along triangle edge k when both its ends lie within `tol` subpixels of the
+  // edge's line: |E_k| <= tol (|a| + |b|) bounds the distance by tol. Each |E_k| at each corner of the
+  // part, and each |a| + |b|, once.
+  int64_t off[3][3], norm[3];
+  for (int k = 0; k < 3; ++k) {
+    const EdgeFunction& e = whole.edge[k];
+    norm[k] = abs64(e.a) + abs64(e.b);
+    for (int i = 0; i < 3; ++i) off[k][i] = abs64(e.at(part.v[i].x, part.v[i].y));
+  }
   int along[3];
   int used = 0;  // bit k: some piece edge runs along triangle edge k
   for (int i = 0; i < 3; ++i) {
     along[i] = -1;
-    const ScreenVertex& p = part.v[i];
-    const ScreenVertex& q = part.v[(i + 1) % 3];
-    const int64_t tol = split_tolerance(view, p, q);
+    const int i1 = i == 2 ? 0 : i + 1;
+    const int64_t tol = split_tolerance(view, part.v[i], part.v[i1]);
     for (int k = 0; k < 3; ++k) {
-      if (!near_edge(whole.edge[k], p, tol) || !near_edge(whole.edge[k], q, tol)) continue;
+      const int64_t reach = tol * norm[k];
+      if (off[k][i] > reach || off[k][i1] > reach) continue;
       if (along[i] >= 0 || (used >> k & 1)) return;  // ambiguous: keep the piece as it is
       along[i] = k;
     }
