@@ -1636,6 +1636,14 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
     if (cached ? view_outside_rows(view_, transform().p, row0, row1) : triangle_outside_rows(view_, world, row0, row1))
       return true;
   }
+  // A split piece's box is tested before its edges are made: most such boxes the walk reaches are
+  // hidden (pieces behind what is drawn, near where the BSP cut them), and need neither the whole
+  // triangle's edges nor tiling. With its box known before projection, before projecting too.
+  const bool box_tested = split && have_box;
+  if (box_tested) {
+    ConvexPoly box;
+    if (!band_.clip_box(unclipped_box, &box) || !tiler_.box_visible(box)) return true;
+  }
   ScreenTriangle parts[kMaxClipTriangles];
   const int n = project_triangle(view_, transform(), facing, parts, false);  // the tiler reads no depths
   writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0, split ? nullptr : &view);
@@ -1648,10 +1656,7 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
     else part_box(parts[i], &poly);
     ConvexPoly box;  // the band's part of the box alone
     if (!band_.clip_box(poly, &box)) continue;  // a third of the parts: their edges are never needed
-    // A split piece's box is tested before its edges are made: most such boxes the walk reaches are
-    // hidden (pieces behind what is drawn, near where the BSP cut them), and need neither the whole
-    // triangle's edges nor tiling.
-    if (split && n == 1 && !tiler_.box_visible(box)) continue;
+    if (split && n == 1 && !box_tested && !tiler_.box_visible(box)) continue;
     poly_edges(parts[i], &poly);
     const ScreenTriangle* colour_part =
         split ? clip_to_whole(tri, cached ? nullptr : whole(), facing, n, parts[i], &whole_view, whole_parts, &whole_n, &poly)
