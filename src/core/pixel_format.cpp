@@ -244,12 +244,27 @@ void PixelPacker::put_row(uint8_t* band, uint32_t stride, int x, int row, int fr
 
 namespace {
 
-// A block of one stored value in a format of whole bytes a pixel: the value's bytes once, copied.
+// 64-bit hosts store 8 bytes at a time, the value repeated (the boards' stores are 32-bit, and a
+// Cortex-M0+ has no unaligned ones).
+constexpr bool kWideStores = UINTPTR_MAX > 0xFFFFFFFFu;
+
+// A block of one stored value in a format of whole bytes a pixel: the value's bytes once, copied, on
+// 64-bit hosts four wide stores at a time (2CylinderEngine, tiler, 1024x768: the background and the
+// large parts, 2.71 M -> 0.65 M instructions).
 template <int kBytes>
 void fill_bytes(uint8_t* band, uint32_t stride, int x, int row, int w, int h, const uint8_t* pattern) {
+  constexpr int kPerWide = 8 / kBytes;  // pixels an 8-byte store holds
+  uint8_t wide[8];
+  for (int i = 0; i < 8; i += kBytes) memcpy(wide + i, pattern, kBytes);
   for (int j = 0; j < h; ++j) {
     uint8_t* at = band + uint32_t(row + j) * stride + uint32_t(x) * kBytes;
-    for (int i = 0; i < w; ++i, at += kBytes) memcpy(at, pattern, kBytes);
+    int i = 0;
+    if (kWideStores) {
+      for (; i + 4 * kPerWide <= w; i += 4 * kPerWide, at += 32)
+        for (int k = 0; k < 32; k += 8) memcpy(at + k, wide, 8);
+      for (; i + kPerWide <= w; i += kPerWide, at += 8) memcpy(at, wide, 8);
+    }
+    for (; i < w; ++i, at += kBytes) memcpy(at, pattern, kBytes);
   }
 }
 
@@ -259,8 +274,7 @@ void fill_bytes(uint8_t* band, uint32_t stride, int x, int row, int w, int h, co
 template <int kBytes>
 void fill_mask_bytes(uint8_t* line, uint32_t stride, uint64_t mask, const uint8_t* pattern) {
   if (mask == 0) return;
-  // 64-bit hosts fill a full row with 8-byte stores of the value repeated (the boards' stores are 32-bit).
-  constexpr bool kWideStores = UINTPTR_MAX > 0xFFFFFFFFu;
+  // 64-bit hosts fill a full row with 8-byte stores of the value repeated (kWideStores).
   uint8_t wide[8];
   for (int i = 0; i < 8; i += kBytes) memcpy(wide + i, pattern, kBytes);
   // Empty rows above the first set bit are skipped at once (a small triangle's blocks hold a few rows).

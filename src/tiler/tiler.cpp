@@ -502,15 +502,16 @@ void clip_to_triangle(const View& view, const ScreenTriangle& part, const Convex
     if (along[i] >= 0) used |= 1 << along[i];
   }
   if (used == 0 || used == 7) return;  // nothing on the boundary, or the whole triangle
-  ConvexPoly out;
+  // In place: the piece edges kept move down (to a slot no later than their own), the triangle's follow.
+  int n = 0;
   for (int i = 0; i < 3; ++i)
-    if (along[i] < 0) out.edge[out.n++] = poly->edge[i];
-  for (int k = 0; k < 3; ++k) out.edge[out.n++] = whole.edge[k];
-  out.min_x = max_of(poly->min_x - grow, max_of(whole.min_x, 0));
-  out.min_y = max_of(poly->min_y - grow, max_of(whole.min_y, 0));
-  out.max_x = min_of(poly->max_x + grow, min_of(whole.max_x, width - 1));
-  out.max_y = min_of(poly->max_y + grow, min_of(whole.max_y, height - 1));
-  *poly = out;
+    if (along[i] < 0) poly->edge[n++] = poly->edge[i];
+  for (int k = 0; k < 3; ++k) poly->edge[n++] = whole.edge[k];
+  poly->n = n;
+  poly->min_x = max_of(poly->min_x - grow, max_of(whole.min_x, 0));
+  poly->min_y = max_of(poly->min_y - grow, max_of(whole.min_y, 0));
+  poly->max_x = min_of(poly->max_x + grow, min_of(whole.max_x, width - 1));
+  poly->max_y = min_of(poly->max_y + grow, min_of(whole.max_y, height - 1));
 }
 
 // Subtree culling (Greene's hierarchical visibility applied to the BSP itself): a subtree of at
