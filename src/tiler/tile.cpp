@@ -175,42 +175,52 @@ class RowSpans {
   Level level_[kMaxPolyEdges];
 };
 
-// Boxes up to this many samples a side take the row-by-row path (HierTiler::tile_small), where a
-// descent would triage at least two levels of masks. A row's span is a word of the box's columns,
-// placed at the box's column within its first block (up to 7 bits further). On 64-bit hosts the word
-// is 64 bits and boxes go up to 56 samples (8 x 8 blocks; bundled scene, 320x240, 16-row bands:
-// 11.94 M instructions at 32, 11.44 M at 48, 11.36 M at 56). 32-bit boards keep 32 samples (5 x 5
-// blocks; best of 16, 24, 32) in a 32-bit word placed as two halves: 64-bit shifts cost a Cortex-M3
-// more than the wider path saves (mps2-an385 frame 10.58 M -> 10.61 M at 56), and the blocks' arrays
-// stay at 400 bytes of stack (1 KB at 56).
+// Boxes up to Grid::kSamples samples a side take the row-by-row path (HierTiler::tile_small), where a
+// descent would triage at least two levels of masks. A row's span is a Word of the box's columns,
+// placed at the box's column within its first block (up to 7 bits further); Placed::byte(i) is the
+// row's part in block i.
+// - 64-bit hosts: a 64-bit word and boxes up to 56 samples (8 x 8 blocks; bundled scene, 320x240,
+//   16-row bands: 11.94 M instructions at 32, 11.44 M at 48, 11.36 M at 56), and wider boxes up to 120
+//   samples in a 128-bit word (WideGrid; 2CylinderEngine, 1024x768: 81.42 M -> 79.99 M a frame; all
+//   boxes in the wide word cost more: 81.50 M).
+// - 32-bit boards: 32 samples (5 x 5 blocks; best of 16, 24, 32) in a 32-bit word placed as two
+//   halves: 64-bit shifts cost a Cortex-M3 more than the wider path saves (mps2-an385 frame 10.58 M ->
+//   10.61 M at 56), and the blocks' arrays stay at 400 bytes of stack (1 KB at 56). No wide grid.
 #if UINTPTR_MAX == 0xFFFFFFFFu
-constexpr int kSmallBoxSamples = 32;
-using SpanWord = uint32_t;
-// A row span placed in the blocks: byte i is the row's part in block i (i <= 4).
-struct PlacedSpan {
-  uint32_t low, high;  // bits 0..31 and 32..63 of span << s
-  PlacedSpan(uint32_t span, int s) : low(span << s), high(s == 0 ? 0 : span >> (32 - s)) {}
-  uint32_t byte(int i) const { return (i < 4 ? low >> (8 * i) : high) & 0xFFu; }
+struct SmallGrid {
+  static constexpr int kSamples = 32;
+  using Word = uint32_t;
+  struct Placed {
+    uint32_t low, high;  // bits 0..31 and 32..63 of span << s
+    Placed(uint32_t span, int s) : low(span << s), high(s == 0 ? 0 : span >> (32 - s)) {}
+    uint32_t byte(int i) const { return (i < 4 ? low >> (8 * i) : high) & 0xFFu; }
+  };
 };
+using WideGrid = SmallGrid;
 #else
-constexpr int kSmallBoxSamples = 56;
-using SpanWord = uint64_t;
-struct PlacedSpan {
-  uint64_t bits;  // span << s
-  PlacedSpan(uint64_t span, int s) : bits(span << s) {}
-  uint32_t byte(int i) const { return uint32_t(bits >> (8 * i)) & 0xFFu; }
+template <class W, int kSide>
+struct GridOf {
+  static constexpr int kSamples = kSide;
+  using Word = W;
+  struct Placed {
+    W bits;  // span << s
+    Placed(W span, int s) : bits(span << s) {}
+    uint32_t byte(int i) const { return uint32_t(bits >> (8 * i)) & 0xFFu; }
+  };
 };
+using SmallGrid = GridOf<uint64_t, 56>;
+using WideGrid = GridOf<unsigned __int128, 120>;
 #endif
-constexpr int kSmallBoxBlocks = kSmallBoxSamples / 8 + 1;
 // RowSpans::rows (the bounds stepped in registers) on 64-bit hosts only: on a Cortex-M0+ the second
 // copy of the row loop is 664 bytes of flash it does not have.
 constexpr bool kRowsInRegisters = UINTPTR_MAX > 0xFFFFFFFFu;
 // box_visible's witness (BoxWitness) on 64-bit hosts only: the boards' flash.
 constexpr bool kWitness = UINTPTR_MAX > 0xFFFFFFFFu;
 
-// Bits first..last of a row (0 <= first <= last < kSmallBoxSamples).
-inline SpanWord span_bits(int32_t first, int32_t last) {
-  return ((SpanWord(2) << last) - 1) & (~SpanWord(0) << first);
+// Bits first..last of a row (0 <= first <= last < the grid's kSamples).
+template <class Word>
+inline Word span_bits(int32_t first, int32_t last) {
+  return ((Word(2) << last) - 1) & (~Word(0) << first);
 }
 
 // |v| < limit, one unsigned comparison (limit > 0).
@@ -405,7 +415,7 @@ bool HierTiler::block_samples(const Edges& in, uint64_t* out) const {
   for (int r = 0; r < 8; ++r) {
     int32_t first, last;
     rows.row(7, &first, &last);
-    if (first <= last) *out |= uint64_t(span_bits(first, last)) << (8 * r);
+    if (first <= last) *out |= uint64_t(span_bits<uint32_t>(first, last)) << (8 * r);
   }
   return true;
 }
@@ -626,15 +636,17 @@ inline bool HierTiler::covered_above(int level, int mx, int my) const {
 // edge functions (RowSpans), is gathered into the finest blocks the box touches, and only samples
 // not yet covered there are written. False (nothing done) when the edges are too long for 32-bit
 // rows; then the caller descends.
+template <class Grid>
 bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result) {
+  constexpr int kBlocks = Grid::kSamples / 8 + 1;
   const int f = pyr_->layout.finest();
   const int cx0 = poly.min_x >> 3, cy0 = poly.min_y >> 3;
   const int nx = (poly.max_x >> 3) - cx0 + 1, ny = (poly.max_y >> 3) - cy0 + 1;
   // Samples already covered in each touched block (all, when an ancestor is covered).
-  uint64_t done[kSmallBoxBlocks][kSmallBoxBlocks];
+  uint64_t done[kBlocks][kBlocks];
   // The polygon's samples in each block; only the nx x ny blocks in use are cleared (with the whole
   // array cleared, a memset of 200 bytes a call).
-  uint64_t cover[kSmallBoxBlocks][kSmallBoxBlocks];
+  uint64_t cover[kBlocks][kBlocks];
   bool open = false;
   // The box's columns in its first and last block columns, and its rows in its first and last block
   // rows (the blocks between are whole): a block's samples in the box are one product of the two.
@@ -673,7 +685,7 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
   const int y0 = poly.min_y & 7;  // the box's first row within its block
   // A row's span placed at its column in the blocks it reaches (row y of the box).
   auto place = [&](int y, int32_t first, int32_t last) {
-    const PlacedSpan row(span_bits(first, last), s);
+    const typename Grid::Placed row(span_bits<typename Grid::Word>(first, last), s);
     const int j = (y + y0) >> 3, shift = ((y + y0) & 7) * 8;
     for (int i = (first + s) >> 3; i <= (last + s) >> 3; ++i) cover[j][i] |= uint64_t(row.byte(i)) << shift;
   };
@@ -716,10 +728,13 @@ TileResult HierTiler::tile(const ConvexPoly& poly, CoverageWriter& writer) {
   bx1_ = poly.max_x;
   by1_ = poly.max_y;
   if (poly.min_x > poly.max_x || poly.min_y > poly.max_y) return TileResult::Hidden;
-  TileResult small;
-  if (jitter_f_ == 0 && poly.max_x - poly.min_x < kSmallBoxSamples && poly.max_y - poly.min_y < kSmallBoxSamples &&
-      tile_small(poly, writer, &small))
-    return small;
+  const int32_t w = poly.max_x - poly.min_x, h = poly.max_y - poly.min_y;
+  if (jitter_f_ == 0 && w < WideGrid::kSamples && h < WideGrid::kSamples) {
+    TileResult small;
+    const bool tiled = w < SmallGrid::kSamples && h < SmallGrid::kSamples ? tile_small<SmallGrid>(poly, writer, &small)
+                                                                          : tile_small<WideGrid>(poly, writer, &small);
+    if (tiled) return small;
+  }
   int level, mx, my;
   if (!start_cell(poly, &level, &mx, &my)) return TileResult::Hidden;
   if (kWitness) forget_witness();

@@ -212,6 +212,7 @@ class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)> {
 
   bool block_samples(const Edges& in, uint64_t* out) const;
   bool tile_cell(int level, int mx, int my, const Edges& in, CoverageWriter& writer);
+  template <class Grid>
   bool tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result);
   bool covered_above(int level, int mx, int my) const;
   bool query_cell(int level, int mx, int my, const Edges& in) const;
