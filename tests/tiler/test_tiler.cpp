@@ -174,6 +174,66 @@ TEST(TilerTile, SmallBoxesWithLongEdgesEqualBruteForce) {
   }
 }
 
+// The row-by-row path at every box size it takes (up to 56 samples a side in a 64-bit row word, 57
+// to 120 in a 128-bit one on 64-bit hosts; 32 on the boards) and past it (the descent), for polygons
+// of up to six edges with up to three left and three right bounds: two triangles intersected, as a
+// split piece is clipped to its triangle. Ownership front to back against brute force (a sample is a
+// polygon's when every edge function is >= 0 at its centre), at one and at 2 x 2 samples a pixel.
+TEST(TilerTile, IntersectedTrianglesOfEverySizeEqualBruteForce) {
+  std::mt19937 rng(33);
+  for (int factor : {1, 2}) {
+    const int pw = 300 / factor, ph = 160 / factor, w = pw * factor, h = ph * factor, pitch = 256 / factor;
+    OwnedPyramid op(w, h);
+    ml::HierTiler tiler;
+    tiler.init(&op.pyramid, pitch, nullptr);
+    RecordingWriter rec(w, h);
+    std::vector<int> expect(size_t(w) * size_t(h), -1);
+    int wide = 0;  // polygons whose box is 57 to 120 samples a side
+    for (int i = 0; i < 400; ++i) {
+      const int span = (10 + int(rng() % 60)) / factor;  // boxes up to about 140 samples
+      ml::ScreenTriangle a, b;
+      if (!tiler_test::random_triangle(rng, pw, ph, span, &a)) continue;
+      b = a;  // the second triangle near the first: their intersection is mostly not empty
+      for (ml::ScreenVertex& v : b.v) {
+        v.x += int(rng() % 4001) - 2000;
+        v.y += int(rng() % 4001) - 2000;
+      }
+      const int64_t area2 = (int64_t(b.v[1].x) - b.v[0].x) * (int64_t(b.v[2].y) - b.v[0].y) -
+                            (int64_t(b.v[1].y) - b.v[0].y) * (int64_t(b.v[2].x) - b.v[0].x);
+      if (area2 <= 0) continue;
+      ml::TriangleSetup sa, sb;
+      ml::setup_triangle(a, pw, ph, &sa);
+      ml::setup_triangle(b, pw, ph, &sb);
+      ml::ConvexPoly pa, pb;
+      ml::poly_in_samples(a, sa, factor, pw, ph, &pa);
+      ml::poly_in_samples(b, sb, factor, pw, ph, &pb);
+      ml::ConvexPoly poly = pa;
+      for (int k = 0; k < 3; ++k) poly.edge[poly.n++] = pb.edge[k];
+      poly.min_x = std::max(pa.min_x, pb.min_x);
+      poly.min_y = std::max(pa.min_y, pb.min_y);
+      poly.max_x = std::min(pa.max_x, pb.max_x);
+      poly.max_y = std::min(pa.max_y, pb.max_y);
+      const int side = std::max(poly.max_x - poly.min_x, poly.max_y - poly.min_y) + 1;
+      wide += side > 56 && side <= 120;
+      rec.current = i;
+      ASSERT_NE(tiler.tile(poly, rec), ml::TileResult::Failed);
+      for (int y = poly.min_y; y <= poly.max_y; ++y)
+        for (int x = poly.min_x; x <= poly.max_x; ++x)
+          if (expect[size_t(y) * size_t(w) + size_t(x)] < 0 &&
+              ml::covers_point(sa, int64_t(x) * pitch + pitch / 2, int64_t(y) * pitch + pitch / 2) &&
+              ml::covers_point(sb, int64_t(x) * pitch + pitch / 2, int64_t(y) * pitch + pitch / 2))
+            expect[size_t(y) * size_t(w) + size_t(x)] = i;
+    }
+    EXPECT_GT(wide, 40) << factor;  // the 128-bit rows are reached
+    ASSERT_FALSE(rec.out_of_bounds);
+    for (size_t p = 0; p < expect.size(); ++p) {
+      ASSERT_LE(rec.count[p], 1) << "sample written twice at " << p % size_t(w) << "," << p / size_t(w);
+      ASSERT_EQ(rec.count[p] ? rec.owner[p] : -1, expect[p])
+          << "at " << p % size_t(w) << "," << p / size_t(w) << ", " << factor << "x" << factor << " samples";
+    }
+  }
+}
+
 TEST(TilerTile, OwnershipEqualsBruteForceFrontToBack) {
   std::mt19937 rng(1);
   for (auto [w, h] : {std::pair<int, int>{320, 240}, {64, 64}, {77, 131}, {600, 9}, {1, 1}, {513, 300}}) {
