@@ -214,6 +214,8 @@ class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)> {
   bool tile_cell(int level, int mx, int my, const Edges& in, CoverageWriter& writer);
   template <class Grid>
   bool tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result);
+  bool tile_in_block(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result);
+  bool cover_block(int bx, int by, uint64_t w, CoverageWriter& writer);
   bool covered_above(int level, int mx, int my) const;
   bool query_cell(int level, int mx, int my, const Edges& in) const;
   bool background_cell(int level, int mx, int my, CoverageWriter& writer);

@@ -174,8 +174,8 @@ TEST(TilerTile, SmallBoxesWithLongEdgesEqualBruteForce) {
   }
 }
 
-// The row-by-row path at every box size it takes (up to 56 samples a side in a 64-bit row word, 57
-// to 120 in a 128-bit one on 64-bit hosts; 32 on the boards) and past it (the descent), for polygons
+// The row-by-row path at every box size it takes (one block, up to 56 samples a side in a 64-bit row
+// word, 57 to 120 in a 128-bit one on 64-bit hosts; 32 on the boards) and past it (the descent), for polygons
 // of up to six edges with up to three left and three right bounds: two triangles intersected, as a
 // split piece is clipped to its triangle. Ownership front to back against brute force (a sample is a
 // polygon's when every edge function is >= 0 at its centre), at one and at 2 x 2 samples a pixel.
@@ -188,9 +188,10 @@ TEST(TilerTile, IntersectedTrianglesOfEverySizeEqualBruteForce) {
     tiler.init(&op.pyramid, pitch, nullptr);
     RecordingWriter rec(w, h);
     std::vector<int> expect(size_t(w) * size_t(h), -1);
-    int wide = 0;  // polygons whose box is 57 to 120 samples a side
-    for (int i = 0; i < 400; ++i) {
-      const int span = (10 + int(rng() % 60)) / factor;  // boxes up to about 140 samples
+    int wide = 0, one_block = 0;  // polygons whose box is 57 to 120 samples a side, or inside one block
+    for (int i = 0; i < 600; ++i) {
+      // Boxes inside one block, up to 56 samples, 57 to 120, and up to about 140 samples.
+      const int span = std::max(1, (i % 4 == 0 ? 1 + int(rng() % 4) : 10 + int(rng() % 60)) / factor);
       ml::ScreenTriangle a, b;
       if (!tiler_test::random_triangle(rng, pw, ph, span, &a)) continue;
       b = a;  // the second triangle near the first: their intersection is mostly not empty
@@ -215,6 +216,7 @@ TEST(TilerTile, IntersectedTrianglesOfEverySizeEqualBruteForce) {
       poly.max_y = std::min(pa.max_y, pb.max_y);
       const int side = std::max(poly.max_x - poly.min_x, poly.max_y - poly.min_y) + 1;
       wide += side > 56 && side <= 120;
+      one_block += (poly.min_x ^ poly.max_x) < 8 && (poly.min_y ^ poly.max_y) < 8;
       rec.current = i;
       ASSERT_NE(tiler.tile(poly, rec), ml::TileResult::Failed);
       for (int y = poly.min_y; y <= poly.max_y; ++y)
@@ -225,6 +227,7 @@ TEST(TilerTile, IntersectedTrianglesOfEverySizeEqualBruteForce) {
             expect[size_t(y) * size_t(w) + size_t(x)] = i;
     }
     EXPECT_GT(wide, 40) << factor;  // the 128-bit rows are reached
+    EXPECT_GT(one_block, 20) << factor;
     ASSERT_FALSE(rec.out_of_bounds);
     for (size_t p = 0; p < expect.size(); ++p) {
       ASSERT_LE(rec.count[p], 1) << "sample written twice at " << p % size_t(w) << "," << p / size_t(w);
