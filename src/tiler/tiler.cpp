@@ -1626,9 +1626,11 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
   }
   // Without a plan, an unclipped piece's sample box comes from its cached screen positions: a piece too
   // small to hold a sample (most of a detailed model's, on a small screen) is dropped before it is
-  // projected (the plan's test), and the others' one part needs no part_box.
+  // projected (the plan's test), and the others' one part needs no part_box. With a plan, a split
+  // piece's too, for its box test before projection (2CylinderEngine a band at a time: 320x240
+  // 69.13 M -> 67.59 M, 1024x768 111.29 M -> 109.67 M; the bundled scene and the duck within 0.1 %).
   ConvexPoly unclipped_box;
-  const bool have_box = !planned && cached && transform().unclipped;
+  const bool have_box = (!planned || split) && cached && transform().unclipped;
   if (have_box && !unclipped_sample_box(view, &unclipped_box)) return true;
   // Outside this band: skipped before projecting (most pieces, with many bands); an exact plan has
   // answered that already.
