@@ -85,5 +85,11 @@ struct SampleRun {
 void texture_runs(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
                   Pixel lut_colour, Pixel colour, const SampleRun* runs, int32_t count, Pixel* out,
                   const uint64_t* lanes = nullptr);
+// texture_runs for the set bits of an 8x8 mask (bit 8 r + c: sample (x + c, y + r)), the colour of
+// sample (x + c, y + r) into out[r stride + c] (a block buffer, or the band itself): the tiler's block
+// on a 64-bit host, without a list of its runs or a copy of its colours.
+void texture_block(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
+                   Pixel lut_colour, Pixel colour, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride,
+                   const uint64_t* lanes = nullptr);
 
 }  // namespace ml

@@ -3,6 +3,7 @@
 // background is tiled through the root mask last. See docs/tiler.md.
 #include "tiler/tiler.h"
 
+#include <stddef.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -47,14 +48,17 @@ struct PixelSum {
 
 // Textured triangles' texture planes kept from one band to the next when the arena has room
 // (tiler_plan_bytes; frames of several bands, scenes with texels): a piece the band edges cut is
-// drawn in every band it reaches, and its planes (the cross products and the small-triangle box,
-// about 650 instructions) are the same in each. Direct-mapped by triangle id: a triangle whose set
-// another took is made again, as without the cache (the same planes, the same images). On 64-bit
-// hosts only (as the band plan's extras): a board has neither the RAM to spare nor the flash.
+// drawn in every band it reaches, and a split triangle's pieces each draw it, and its planes (the
+// cross products and the small-triangle box, about 450 instructions) are the same each time.
+// Direct-mapped by triangle id, 256 sets of the planes as made (without their caches: 128 bytes, 32
+// KB), given only to the triangles that may be drawn again (BandWriter::may_draw_again): a
+// triangle whose set another took is made again, as without the cache (the same planes, the same
+// images). On 64-bit hosts only (as the band plan's extras): a board has neither the RAM to spare
+// nor the flash.
 class PlaneCache {
  public:
   static constexpr bool kActive = sizeof(void*) >= 8;
-  static constexpr uint32_t kSets = 64;
+  static constexpr uint32_t kSets = 256;
   static size_t bytes(const Scene& scene, int bands) {
     return !kActive || bands < 2 || scene.texture_texels_count == 0 ? 0
                                                                    : arena_worst_case(sizeof(Set) * kSets, alignof(Set));
@@ -64,26 +68,40 @@ class PlaneCache {
     sets_ = arena.allocate_array<Set>(kSets);
     for (uint32_t i = 0; sets_ && i < kSets; ++i) sets_[i].triangle = kNone;
   }
-  // Triangle `triangle`'s planes as made (nothing cached in them yet), or null.
-  const TexturePlanes* find(uint32_t triangle) const {
-    if (!kActive || !sets_) return nullptr;
+  // Triangle `triangle`'s planes as made (nothing cached in them yet) into *planes; false when not kept.
+  bool find(uint32_t triangle, TexturePlanes* planes) const {
+    if (!kActive || !sets_) return false;
     const Set& set = sets_[triangle & (kSets - 1)];
-    return set.triangle == triangle ? &set.planes : nullptr;
+    if (set.triangle != triangle) return false;
+    memcpy(static_cast<void*>(planes), set.made, sizeof set.made);
+    planes->rows = nullptr;  // nothing cached yet, as make_texture_planes leaves them
+    planes->row_mask = 0;
+    planes->one.y = -1;
+    planes->piece.y = -1;
+    return true;
   }
   void keep(uint32_t triangle, const TexturePlanes& planes) {
     if (!kActive || !sets_) return;
     Set& set = sets_[triangle & (kSets - 1)];
     set.triangle = triangle;
-    set.planes = planes;
+    memcpy(set.made, static_cast<const void*>(&planes), sizeof set.made);
   }
 
  private:
+  // TexturePlanes' fields make_texture_planes gives (a, b, k .. whole_denom), the caches after them.
+  static constexpr size_t kMade = offsetof(TexturePlanes, rows);
   struct Set {
+    alignas(8) unsigned char made[kMade];
     uint32_t triangle;
-    TexturePlanes planes;
   };
+  static_assert(sizeof(Set) <= 128, "a set in 128 bytes");
   Set* sets_ = nullptr;
 };
+
+// A small textured triangle's 8x8 block sampled straight from its mask and put into the band as a mask
+// (texture_block, BandOutput::put_mask) on 64-bit hosts; the boards keep their flash for a list of
+// runs (texture_runs) put row by row.
+constexpr bool kTextureBlocks = sizeof(void*) >= 8;
 
 // Turns newly covered sample blocks (band-local rows) into band-buffer writes of the current piece's
 // colours. Colours are computed on the first write, so hidden pieces cost no shading.
@@ -103,6 +121,7 @@ class BandWriter : public CoverageWriter {
   void use_filter(SampleFilter* filter) { cosine_ = filter; }
   void begin_band(int top, int rows) {
     top_ = top;
+    band_end_ = top + rows;
     if (factor_ > 1 && !cosine_)
       for (size_t i = 0; i < size_t(rows) * size_t(width_); ++i) sums_[i] = PixelSum{0, 0, 0, 0};
   }
@@ -111,6 +130,7 @@ class BandWriter : public CoverageWriter {
   void begin_piece(const Scene* scene, const Light* light, ShadingMode mode, uint32_t triangle,
                    bool front_facing, const ViewTriangle* whole_view = nullptr) {
     whole_view_ = whole_view;
+    split_ = whole_view == nullptr;
     scene_ = scene;
     light_ = light;
     mode_ = mode;
@@ -118,7 +138,7 @@ class BandWriter : public CoverageWriter {
     front_facing_ = front_facing;
     shaded_ = false;
     wrote_piece_ = false;
-    texture_ = pager_ ? triangle_texture(*scene, triangle) : kNone;
+    texture_ = !pager_ ? kNone : kBatchTextures ? texture_of_batch(triangle) : triangle_texture(*scene, triangle);
     texture_ready_ = false;
     lut_ = nullptr;
   }
@@ -280,18 +300,38 @@ class BandWriter : public CoverageWriter {
   }
   TexturePlanes& texture_planes() { return texture_ready_ ? texture_planes_ : make_texture_planes(); }
   [[gnu::noinline]] TexturePlanes& make_texture_planes() {  // once a piece, off the per-block paths
-    if (const TexturePlanes* kept = plane_cache_->find(triangle_)) {  // made in an earlier band
-      texture_planes_ = *kept;
+    if (plane_cache_->find(triangle_, &texture_planes_)) {  // made for an earlier piece or band
       ++stats_->texture_planes_reused;
     } else {
       triangle_texture_planes(*scene_, *view_, triangle_, texture_, 1, kSubpixelHalf, kSubpixelHalf,
                               &texture_planes_, whole_view_);
-      plane_cache_->keep(triangle_, texture_planes_);
+      if (!PlaneCache::kActive || may_draw_again()) plane_cache_->keep(triangle_, texture_planes_);
     }
     // A small triangle's samples are divided one by one: no segments to keep (planes' rows stay null).
     if (!texture_planes_.exact) use_segment_rows(&texture_planes_, segment_rows_, kSegmentRowBits);
     texture_ready_ = true;
     return texture_planes_;
+  }
+
+  // triangle_texture with the last batch's answer kept (a mesh's pieces come batch after batch), on
+  // 64-bit hosts; the boards look each piece's up (flash).
+  static constexpr bool kBatchTextures = sizeof(void*) >= 8;
+  uint32_t texture_of_batch(uint32_t triangle) {
+    const uint32_t batch = triangle_at(*scene_, triangle).batch;
+    if (batch != texture_batch_) {
+      texture_batch_ = batch;
+      batch_texture_ = triangle_texture(*scene_, triangle);
+    }
+    return batch_texture_;
+  }
+
+  // Whether the piece's triangle may be drawn again, so that its planes are worth keeping: a split
+  // piece's triangle has other pieces; a whole one, unless its view is unclipped and its vertices end
+  // above the band's last row (the cache keeps its sets for the triangles that reach a later band).
+  bool may_draw_again() const {
+    if (split_ || !whole_view_ || !whole_view_->unclipped) return true;
+    const int64_t bottom = max_of(whole_view_->oy[0], max_of(whole_view_->oy[1], whole_view_->oy[2]));
+    return view_->center_y + bottom >= int64_t(band_end_ - 1) * kSubpixelOne;
   }
 
   // The piece's texel table for `samples` samples of its texture's `bytes`, looked up once for its
@@ -322,6 +362,7 @@ class BandWriter : public CoverageWriter {
     const uint64_t n = uint64_t(bit_count64(mask));
     stats_->pixel_writes += n;
     stats_->shading_calls += n;
+    if (kTextureBlocks) return write_textured_mask(planes, bytes, mask, x, y);
     lookup_lut(bytes, uint32_t(n), true);
     static_assert(kRowPixels >= 64, "a block's colours fit the row buffer");
     SampleRun runs[32];  // at most 4 runs a row of 8
@@ -341,6 +382,33 @@ class BandWriter : public CoverageWriter {
     for (int32_t k = 0; k < count; ++k) {
       out_.put_row(runs[k].x, runs[k].y, colours, runs[k].n);
       colours += runs[k].n;
+    }
+    return true;
+  }
+
+  // write_textured_block on a 64-bit host: the samples straight from the mask (texture_block), into
+  // the band itself when it stores colours as they are, else into row_ at their bits and out as a mask
+  // (or run by run). The white table and its lanes are looked up once a piece (again only when the
+  // pager has made a table since: until then its answers stay the same).
+  bool write_textured_mask(TexturePlanes& planes, const uint8_t* bytes, uint64_t mask, int x, int y) {
+    const uint32_t generation = pager_->lut_generation();
+    if (!lut_ || lut_generation_ != generation || lanes_lut_ != lut_ || lanes_generation_ != generation) {
+      lookup_lut(bytes, 0, true);
+      lanes_ = pager_->lanes_for(texture_, lut_, lut_colour_, colors_.flat, true);
+      lanes_lut_ = lut_;
+      lanes_generation_ = generation;
+    }
+    static_assert(kRowPixels >= 64, "a block's colours fit the row buffer");
+    uint32_t stride = 8;
+    Pixel* band = out_.pixels_at(x, y, &stride);
+    texture_block(planes, scene_->texture_texels[texture_], bytes, lut_, lut_colour_, colors_.flat, mask, x, y,
+                  band ? band : row_, band ? stride : 8, lanes_);
+    if (band || out_.put_mask(mask, x, y, row_)) return true;
+    for (uint64_t m = mask; m != 0;) {  // row_[8 r + c] holds pixel (x + c, y + r)
+      const int at = __builtin_ctzll(m), start = at & 7;
+      const int run = __builtin_ctz(~(uint32_t(m >> at) & (0xFFu >> start)));
+      out_.put_row(x + start, y + (at >> 3), row_ + at, run);
+      m &= ~(((uint64_t(1) << run) - 1) << at);
     }
     return true;
   }
@@ -426,7 +494,7 @@ class BandWriter : public CoverageWriter {
   PixelSum* sums_ = nullptr;
   Colours colours_{this};
   SampleFilter* cosine_ = nullptr;
-  int top_ = 0;
+  int top_ = 0, band_end_ = 0;  // the band's rows (pixels)
   const Scene* scene_ = nullptr;
   const Vec3i* world_ = nullptr;
   const Light* light_ = nullptr;
@@ -447,9 +515,15 @@ class BandWriter : public CoverageWriter {
   TextureSegment* segment_rows_ = nullptr;
   PlaneCache* plane_cache_ = nullptr;  // set whenever textured (inactive: finds nothing)
   const ViewTriangle* whole_view_ = nullptr;
+  bool split_ = false;  // the piece is a BSP split part (begin_piece without the whole view)
+  uint32_t texture_batch_ = kNone, batch_texture_ = kNone;  // texture_of_batch's last answer
   const Pixel* lut_ = nullptr;  // the piece's texel table (null: not looked up yet), its colour and generation
   Pixel lut_colour_ = 0;
   uint32_t lut_generation_ = 0;
+  // A small piece's white table's lanes (write_textured_mask), the table and generation they are of.
+  const uint64_t* lanes_ = nullptr;
+  const Pixel* lanes_lut_ = nullptr;
+  uint32_t lanes_generation_ = 0;
 };
 
 // A BSP piece cut from a triangle has split vertices quantized like any vertex, so its outer edges
