@@ -16,8 +16,10 @@ namespace {
 // differently); the firmware leaves them to -Os, for its code budget.
 #ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
 #define ML_RUN_HELPER __attribute__((always_inline)) inline
+#define ML_RUN_LAMBDA __attribute__((always_inline))
 #else
 #define ML_RUN_HELPER inline
+#define ML_RUN_LAMBDA
 #endif
 
 // A texel index along one axis of `size` texels (a power of two) under wrap mode M.
@@ -663,9 +665,9 @@ ML_RUN_HELPER void bilinear_runs(TexturePlanes& p, const TextureTexels& t, const
                                  Runs runs, Pixel* out) {
   ExactSteps steps(p);
   if (repeat)
-    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) { *at = bilinear_tinted<true>(t, uv[0], uv[1], fetch, tint); });
+    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA { *at = bilinear_tinted<true>(t, uv[0], uv[1], fetch, tint); });
   else
-    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) { *at = bilinear_tinted<false>(t, uv[0], uv[1], fetch, tint); });
+    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA { *at = bilinear_tinted<false>(t, uv[0], uv[1], fetch, tint); });
 }
 
 template <TexelFormat F, typename Runs>
@@ -679,14 +681,14 @@ ML_RUN_HELPER void exact_runs(TexturePlanes& p, const TextureTexels& t, const ui
   ExactSteps steps(p);
   if (nearest && repeat) {  // wrapping is a mask (wrap_as<Repeat>)
     const int32_t mu = int32_t(t.width) - 1, mv = int32_t(t.height) - 1;
-    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) {
+    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
       const Pixel texel = fetch((uv[0] >> sb[0]) & mu, (uv[1] >> sb[1]) & mv);
       *at = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
     });
     return;
   }
   if (nearest) {
-    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) {
+    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
       const Pixel texel = fetch(wrap(uv[0] >> sb[0], t.width, t.wrap_s), wrap(uv[1] >> sb[1], t.height, t.wrap_t));
       *at = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
     });
@@ -696,7 +698,7 @@ ML_RUN_HELPER void exact_runs(TexturePlanes& p, const TextureTexels& t, const ui
     bilinear_runs(p, t, fetch, tint_of(colour), repeat, runs, out);
     return;
   }
-  runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) {
+  runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
     *at = lut ? sample_texture(t, bytes, lut, lut_colour, uv, colour, true) : textured_colour(t, bytes, uv, colour, true);
   });
 }
@@ -925,9 +927,40 @@ void texture_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes
   runs_of(p, t, bytes, lut, lut_colour, colour, ListRuns{runs, runs + count}, out, lanes);
 }
 
-void texture_block(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
-                   Pixel colour, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride, const uint64_t* lanes) {
-  runs_of(p, t, bytes, lut, lut_colour, colour, MaskRuns{mask, x, y, stride}, out, lanes);
+namespace {
+// TextureBlocks::draw: a small triangle's samples through the table's lanes (exact_lanes_runs) or the
+// table (exact_runs) of format F, or any piece's as texture_runs draws them.
+#if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
+template <TexelFormat F>
+void lanes_block(const TextureBlocks& b, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
+  exact_lanes_runs<F>(*b.planes, *b.texture, b.bytes, b.lanes, b.colour, MaskRuns{mask, x, y, stride}, out);
+}
+template <TexelFormat F>
+void table_block(const TextureBlocks& b, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
+  exact_runs<F>(*b.planes, *b.texture, b.bytes, b.lut, b.lut_colour, b.colour, MaskRuns{mask, x, y, stride}, out);
+}
+#endif
+void any_block(const TextureBlocks& b, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
+  runs_of(*b.planes, *b.texture, b.bytes, b.lut, b.lut_colour, b.colour, MaskRuns{mask, x, y, stride}, out, b.lanes);
+}
+}  // namespace
+
+TextureBlocks texture_blocks(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut,
+                             Pixel lut_colour, Pixel colour, const uint64_t* lanes) {
+  TextureBlocks b{&p, &t, bytes, lut, lut_colour, colour, lanes, any_block};
+#if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
+  if (!p.exact) return b;  // as runs_of
+  const bool in_lanes = lanes && blends_table_as_is(t, true, lut_colour, colour);
+  switch (TexelFormat(t.format)) {
+    case TexelFormat::Palette8:
+      b.draw = in_lanes ? lanes_block<TexelFormat::Palette8> : table_block<TexelFormat::Palette8>;
+      break;
+    case TexelFormat::Grey4: b.draw = in_lanes ? lanes_block<TexelFormat::Grey4> : table_block<TexelFormat::Grey4>; break;
+    case TexelFormat::Rgb565: b.draw = in_lanes ? lanes_block<TexelFormat::Rgb565> : table_block<TexelFormat::Rgb565>; break;
+    default: break;
+  }
+#endif
+  return b;
 }
 
 }  // namespace ml

@@ -85,11 +85,24 @@ struct SampleRun {
 void texture_runs(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
                   Pixel lut_colour, Pixel colour, const SampleRun* runs, int32_t count, Pixel* out,
                   const uint64_t* lanes = nullptr);
-// texture_runs for the set bits of an 8x8 mask (bit 8 r + c: sample (x + c, y + r)), the colour of
-// sample (x + c, y + r) into out[r stride + c] (a block buffer, or the band itself): the tiler's block
-// on a 64-bit host, without a list of its runs or a copy of its colours.
-void texture_block(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
-                   Pixel lut_colour, Pixel colour, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride,
-                   const uint64_t* lanes = nullptr);
+// A small triangle's 8x8 blocks (the tiler's, on a 64-bit host): texture_runs for the set bits of a
+// block's mask (bit 8 r + c: sample (x + c, y + r)), the colour of sample (x + c, y + r) into
+// out[r stride + c] (a block buffer, or the band itself), without a list of its runs. What a piece's
+// blocks share is looked at once, by texture_blocks, which also picks the loop for its format, filter
+// and table; then texture_block for each block.
+struct TextureBlocks {
+  TexturePlanes* planes;
+  const TextureTexels* texture;
+  const uint8_t* bytes;
+  const Pixel* lut;
+  Pixel lut_colour, colour;
+  const uint64_t* lanes;
+  void (*draw)(const TextureBlocks& blocks, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride);
+};
+TextureBlocks texture_blocks(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
+                             Pixel lut_colour, Pixel colour, const uint64_t* lanes = nullptr);
+inline void texture_block(const TextureBlocks& blocks, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
+  blocks.draw(blocks, mask, x, y, out, stride);
+}
 
 }  // namespace ml

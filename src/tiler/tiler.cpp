@@ -141,6 +141,7 @@ class BandWriter : public CoverageWriter {
     texture_ = !pager_ ? kNone : kBatchTextures ? texture_of_batch(triangle) : triangle_texture(*scene, triangle);
     texture_ready_ = false;
     lut_ = nullptr;
+    blocks_ready_ = false;
   }
   // The whole triangle's view_triangle for a split piece's texture planes (valid while it is tiled).
   void use_whole_view(const ViewTriangle* whole_view) { whole_view_ = whole_view; }
@@ -388,21 +389,19 @@ class BandWriter : public CoverageWriter {
 
   // write_textured_block on a 64-bit host: the samples straight from the mask (texture_block), into
   // the band itself when it stores colours as they are, else into row_ at their bits and out as a mask
-  // (or run by run). The white table and its lanes are looked up once a piece (again only when the
-  // pager has made a table since: until then its answers stay the same).
+  // (or run by run). The white table, its lanes and the sampler's loop are looked up once a piece
+  // (again only when the pager has made a table since: until then its answers stay the same).
   bool write_textured_mask(TexturePlanes& planes, const uint8_t* bytes, uint64_t mask, int x, int y) {
-    const uint32_t generation = pager_->lut_generation();
-    if (!lut_ || lut_generation_ != generation || lanes_lut_ != lut_ || lanes_generation_ != generation) {
+    if (!blocks_ready_ || bytes != blocks_.bytes || lut_generation_ != pager_->lut_generation()) {
       lookup_lut(bytes, 0, true);
-      lanes_ = pager_->lanes_for(texture_, lut_, lut_colour_, colors_.flat, true);
-      lanes_lut_ = lut_;
-      lanes_generation_ = generation;
+      blocks_ = texture_blocks(planes, scene_->texture_texels[texture_], bytes, lut_, lut_colour_, colors_.flat,
+                               pager_->lanes_for(texture_, lut_, lut_colour_, colors_.flat, true));
+      blocks_ready_ = true;
     }
     static_assert(kRowPixels >= 64, "a block's colours fit the row buffer");
     uint32_t stride = 8;
     Pixel* band = out_.pixels_at(x, y, &stride);
-    texture_block(planes, scene_->texture_texels[texture_], bytes, lut_, lut_colour_, colors_.flat, mask, x, y,
-                  band ? band : row_, band ? stride : 8, lanes_);
+    texture_block(blocks_, mask, x, y, band ? band : row_, band ? stride : 8);
     if (band || out_.put_mask(mask, x, y, row_)) return true;
     for (uint64_t m = mask; m != 0;) {  // row_[8 r + c] holds pixel (x + c, y + r)
       const int at = __builtin_ctzll(m), start = at & 7;
@@ -520,10 +519,8 @@ class BandWriter : public CoverageWriter {
   const Pixel* lut_ = nullptr;  // the piece's texel table (null: not looked up yet), its colour and generation
   Pixel lut_colour_ = 0;
   uint32_t lut_generation_ = 0;
-  // A small piece's white table's lanes (write_textured_mask), the table and generation they are of.
-  const uint64_t* lanes_ = nullptr;
-  const Pixel* lanes_lut_ = nullptr;
-  uint32_t lanes_generation_ = 0;
+  TextureBlocks blocks_{};  // a small piece's blocks' sampling (write_textured_mask), once ready
+  bool blocks_ready_ = false;
 };
 
 // A BSP piece cut from a triangle has split vertices quantized like any vertex, so its outer edges
