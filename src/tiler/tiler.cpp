@@ -141,7 +141,6 @@ class BandWriter : public CoverageWriter {
     texture_ = !pager_ ? kNone : kBatchTextures ? texture_of_batch(triangle) : triangle_texture(*scene, triangle);
     texture_ready_ = false;
     lut_ = nullptr;
-    blocks_ready_ = false;
   }
   // The whole triangle's view_triangle for a split piece's texture planes (valid while it is tiled).
   void use_whole_view(const ViewTriangle* whole_view) { whole_view_ = whole_view; }
@@ -389,15 +388,20 @@ class BandWriter : public CoverageWriter {
 
   // write_textured_block on a 64-bit host: the samples straight from the mask (texture_block), into
   // the band itself when it stores colours as they are, else into row_ at their bits and out as a mask
-  // (or run by run). The white table, its lanes and the sampler's loop are looked up once a piece
-  // (again only when the pager has made a table since: until then its answers stay the same).
+  // (or run by run). A small piece takes its texture's white table, its lanes and the sampler's loop
+  // for it whatever its colour, so they are looked up again only for another texture, or when the
+  // pager would do more than answer the same (a table made since, another texture's white table
+  // asked for); each piece sets its colour.
   bool write_textured_mask(TexturePlanes& planes, const uint8_t* bytes, uint64_t mask, int x, int y) {
-    if (!blocks_ready_ || bytes != blocks_.bytes || lut_generation_ != pager_->lut_generation()) {
-      lookup_lut(bytes, 0, true);
-      blocks_ = texture_blocks(planes, scene_->texture_texels[texture_], bytes, lut_, lut_colour_, colors_.flat,
-                               pager_->lanes_for(texture_, lut_, lut_colour_, colors_.flat, true));
-      blocks_ready_ = true;
+    if (texture_ != blocks_texture_ || bytes != blocks_.bytes || pager_->lut_generation() != blocks_generation_ ||
+        !pager_->white_lut_ready(texture_)) {
+      const Pixel* white = pager_->white_lut(texture_, bytes);
+      blocks_ = texture_blocks(planes, scene_->texture_texels[texture_], bytes, white, 0xFFFFFF, colors_.flat,
+                               pager_->lanes_for(texture_, white, 0xFFFFFF, colors_.flat, true));
+      blocks_texture_ = texture_;
+      blocks_generation_ = pager_->lut_generation();
     }
+    blocks_.colour = colors_.flat;
     static_assert(kRowPixels >= 64, "a block's colours fit the row buffer");
     uint32_t stride = 8;
     Pixel* band = out_.pixels_at(x, y, &stride);
@@ -519,8 +523,9 @@ class BandWriter : public CoverageWriter {
   const Pixel* lut_ = nullptr;  // the piece's texel table (null: not looked up yet), its colour and generation
   Pixel lut_colour_ = 0;
   uint32_t lut_generation_ = 0;
-  TextureBlocks blocks_{};  // a small piece's blocks' sampling (write_textured_mask), once ready
-  bool blocks_ready_ = false;
+  // Small pieces' blocks' sampling (write_textured_mask): for this texture, at this table generation.
+  TextureBlocks blocks_{};
+  uint32_t blocks_texture_ = kNone, blocks_generation_ = 0;
 };
 
 // A BSP piece cut from a triangle has split vertices quantized like any vertex, so its outer edges
