@@ -301,6 +301,7 @@ bool PixelPacker::fill_mask(uint8_t* band, uint32_t stride, int x, int row, uint
   return true;
 }
 
+#if UINTPTR_MAX > 0xFFFFFFFFu  // 64-bit hosts' textured blocks; nothing of it in the boards' flash
 namespace {
 
 // The set bits of an 8x8 mask (row 0 at `line`), kBytes bytes a pixel, store(at, pixels[bit]) at each.
@@ -345,6 +346,9 @@ bool PixelPacker::put_mask(uint8_t* band, uint32_t stride, int x, int row, uint6
       return false;
   }
 }
+#else
+bool PixelPacker::put_mask(uint8_t*, uint32_t, int, int, uint64_t, const Pixel*) const { return false; }
+#endif
 
 void PixelPacker::fill(uint8_t* band, uint32_t stride, int x, int row, int frame_y, int w, int h,
                        Pixel value) const {

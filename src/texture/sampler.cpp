@@ -579,12 +579,6 @@ Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut,
   return modulate_texel(fetch(wrap(su >> 16, t.width, t.wrap_s), wrap(sv >> 16, t.height, t.wrap_t)), after);
 }
 
-#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
-// A small triangle's samples (TexturePlanes::exact): exact coordinates sample by sample along each
-// run (ExactSteps), each sample's colour through the table (nearest filtering: its texel taken here,
-// format F known; bilinear, the white table's texels filtered, then multiplied) or decoded, without
-// one. (The firmware, ML_TEXTURE_RUNS_GENERAL_ONLY, for its code budget: texture_rows' samples one
-// by one, each exact.)
 // The runs: a Runs value whose next(&run) gives each run in turn, false after the last (texture_rows'
 // rows, texture_runs' list, texture_block's mask), place(run, &out) where its colours go, and
 // each(p, steps, out, f) calls f(uv, at) for each sample in turn with its exact coordinates
@@ -658,6 +652,12 @@ struct MaskRuns {
   }
 };
 
+#ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
+// A small triangle's samples (TexturePlanes::exact): exact coordinates sample by sample along each
+// run (ExactSteps), each sample's colour through the table (nearest filtering: its texel taken here,
+// format F known; bilinear, the white table's texels filtered, then multiplied) or decoded, without
+// one. (The firmware, ML_TEXTURE_RUNS_GENERAL_ONLY, for its code budget: texture_rows' samples one
+// by one, each exact.)
 // Bilinear samples along the runs at exact coordinates (ExactSteps), each the filter of the texels
 // `fetch` gives, then multiplied by `tint`.
 template <typename Fetch, typename Runs>

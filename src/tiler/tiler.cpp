@@ -98,10 +98,11 @@ class PlaneCache {
   Set* sets_ = nullptr;
 };
 
-// A small textured triangle's 8x8 block sampled straight from its mask and put into the band as a mask
-// (texture_block, BandOutput::put_mask) on 64-bit hosts; the boards keep their flash for a list of
-// runs (texture_runs) put row by row.
-constexpr bool kTextureBlocks = sizeof(void*) >= 8;
+// The BandWriter's texture fast paths of 64-bit hosts (#if UINTPTR_MAX > 0xFFFFFFFFu: the boards keep
+// their flash and stack for other code): a small triangle's 8x8 block sampled straight from its mask
+// and written into the band (write_textured_mask; the boards make a list of runs, texture_runs, and
+// put them row by row), a piece's texture looked up once a batch (texture_of_batch), and the kept
+// planes given only to triangles that may be drawn again (may_draw_again).
 
 // Turns newly covered sample blocks (band-local rows) into band-buffer writes of the current piece's
 // colours. Colours are computed on the first write, so hidden pieces cost no shading.
@@ -121,7 +122,9 @@ class BandWriter : public CoverageWriter {
   void use_filter(SampleFilter* filter) { cosine_ = filter; }
   void begin_band(int top, int rows) {
     top_ = top;
+#if UINTPTR_MAX > 0xFFFFFFFFu
     band_end_ = top + rows;
+#endif
     if (factor_ > 1 && !cosine_)
       for (size_t i = 0; i < size_t(rows) * size_t(width_); ++i) sums_[i] = PixelSum{0, 0, 0, 0};
   }
@@ -130,7 +133,9 @@ class BandWriter : public CoverageWriter {
   void begin_piece(const Scene* scene, const Light* light, ShadingMode mode, uint32_t triangle,
                    bool front_facing, const ViewTriangle* whole_view = nullptr) {
     whole_view_ = whole_view;
+#if UINTPTR_MAX > 0xFFFFFFFFu
     split_ = whole_view == nullptr;
+#endif
     scene_ = scene;
     light_ = light;
     mode_ = mode;
@@ -138,7 +143,11 @@ class BandWriter : public CoverageWriter {
     front_facing_ = front_facing;
     shaded_ = false;
     wrote_piece_ = false;
-    texture_ = !pager_ ? kNone : kBatchTextures ? texture_of_batch(triangle) : triangle_texture(*scene, triangle);
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    texture_ = pager_ ? texture_of_batch(triangle) : kNone;
+#else
+    texture_ = pager_ ? triangle_texture(*scene, triangle) : kNone;
+#endif
     texture_ready_ = false;
     lut_ = nullptr;
   }
@@ -305,7 +314,7 @@ class BandWriter : public CoverageWriter {
     } else {
       triangle_texture_planes(*scene_, *view_, triangle_, texture_, 1, kSubpixelHalf, kSubpixelHalf,
                               &texture_planes_, whole_view_);
-      if (!PlaneCache::kActive || may_draw_again()) plane_cache_->keep(triangle_, texture_planes_);
+      if (may_draw_again()) plane_cache_->keep(triangle_, texture_planes_);
     }
     // A small triangle's samples are divided one by one: no segments to keep (planes' rows stay null).
     if (!texture_planes_.exact) use_segment_rows(&texture_planes_, segment_rows_, kSegmentRowBits);
@@ -313,9 +322,22 @@ class BandWriter : public CoverageWriter {
     return texture_planes_;
   }
 
-  // triangle_texture with the last batch's answer kept (a mesh's pieces come batch after batch), on
-  // 64-bit hosts; the boards look each piece's up (flash).
-  static constexpr bool kBatchTextures = sizeof(void*) >= 8;
+  // Whether the piece's triangle may be drawn again, so that its planes are worth keeping (PlaneCache,
+  // 64-bit hosts): a split piece's triangle has other pieces; a whole one, unless its view is
+  // unclipped and its vertices end above the band's last row (the cache keeps its sets for the
+  // triangles that reach a later band).
+  bool may_draw_again() const {
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    if (split_ || !whole_view_ || !whole_view_->unclipped) return true;
+    const int64_t bottom = max_of(whole_view_->oy[0], max_of(whole_view_->oy[1], whole_view_->oy[2]));
+    return view_->center_y + bottom >= int64_t(band_end_ - 1) * kSubpixelOne;
+#else
+    return true;
+#endif
+  }
+
+#if UINTPTR_MAX > 0xFFFFFFFFu
+  // triangle_texture with the last batch's answer kept (a mesh's pieces come batch after batch).
   uint32_t texture_of_batch(uint32_t triangle) {
     const uint32_t batch = triangle_at(*scene_, triangle).batch;
     if (batch != texture_batch_) {
@@ -324,15 +346,7 @@ class BandWriter : public CoverageWriter {
     }
     return batch_texture_;
   }
-
-  // Whether the piece's triangle may be drawn again, so that its planes are worth keeping: a split
-  // piece's triangle has other pieces; a whole one, unless its view is unclipped and its vertices end
-  // above the band's last row (the cache keeps its sets for the triangles that reach a later band).
-  bool may_draw_again() const {
-    if (split_ || !whole_view_ || !whole_view_->unclipped) return true;
-    const int64_t bottom = max_of(whole_view_->oy[0], max_of(whole_view_->oy[1], whole_view_->oy[2]));
-    return view_->center_y + bottom >= int64_t(band_end_ - 1) * kSubpixelOne;
-  }
+#endif
 
   // The piece's texel table for `samples` samples of its texture's `bytes`, looked up once for its
   // blocks: again only when the pager has made one since, or for a block large enough to have a
@@ -362,7 +376,9 @@ class BandWriter : public CoverageWriter {
     const uint64_t n = uint64_t(bit_count64(mask));
     stats_->pixel_writes += n;
     stats_->shading_calls += n;
-    if (kTextureBlocks) return write_textured_mask(planes, bytes, mask, x, y);
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    return write_textured_mask(planes, bytes, mask, x, y);
+#else
     lookup_lut(bytes, uint32_t(n), true);
     static_assert(kRowPixels >= 64, "a block's colours fit the row buffer");
     SampleRun runs[32];  // at most 4 runs a row of 8
@@ -384,8 +400,10 @@ class BandWriter : public CoverageWriter {
       colours += runs[k].n;
     }
     return true;
+#endif
   }
 
+#if UINTPTR_MAX > 0xFFFFFFFFu
   // write_textured_block on a 64-bit host: the samples straight from the mask (texture_block), into
   // the band itself when it stores colours as they are, else into row_ at their bits and out as a mask
   // (or run by run). A small piece takes its texture's white table, its lanes and the sampler's loop
@@ -415,6 +433,8 @@ class BandWriter : public CoverageWriter {
     }
     return true;
   }
+
+#endif
 
   // A block of a textured piece: flat colours a few rows at a time (texture/sampler.h texture_rows),
   // smooth ones pixel by pixel.
@@ -497,7 +517,7 @@ class BandWriter : public CoverageWriter {
   PixelSum* sums_ = nullptr;
   Colours colours_{this};
   SampleFilter* cosine_ = nullptr;
-  int top_ = 0, band_end_ = 0;  // the band's rows (pixels)
+  int top_ = 0;
   const Scene* scene_ = nullptr;
   const Vec3i* world_ = nullptr;
   const Light* light_ = nullptr;
@@ -518,14 +538,17 @@ class BandWriter : public CoverageWriter {
   TextureSegment* segment_rows_ = nullptr;
   PlaneCache* plane_cache_ = nullptr;  // set whenever textured (inactive: finds nothing)
   const ViewTriangle* whole_view_ = nullptr;
-  bool split_ = false;  // the piece is a BSP split part (begin_piece without the whole view)
-  uint32_t texture_batch_ = kNone, batch_texture_ = kNone;  // texture_of_batch's last answer
   const Pixel* lut_ = nullptr;  // the piece's texel table (null: not looked up yet), its colour and generation
   Pixel lut_colour_ = 0;
   uint32_t lut_generation_ = 0;
+#if UINTPTR_MAX > 0xFFFFFFFFu  // the fast paths' state
+  int band_end_ = 0;    // the band's end (pixel rows, may_draw_again)
+  bool split_ = false;  // the piece is a BSP split part (begin_piece without the whole view)
+  uint32_t texture_batch_ = kNone, batch_texture_ = kNone;  // texture_of_batch's last answer
   // Small pieces' blocks' sampling (write_textured_mask): for this texture, at this table generation.
   TextureBlocks blocks_{};
   uint32_t blocks_texture_ = kNone, blocks_generation_ = 0;
+#endif
 };
 
 // A BSP piece cut from a triangle has split vertices quantized like any vertex, so its outer edges
