@@ -519,6 +519,12 @@ struct Renderer {
   TexturePlanes* tex_planes = nullptr;
   SlotLut* tex_lut = nullptr;
   static constexpr uint32_t kTexReady = 0x80000000u;
+#if UINTPTR_MAX > 0xFFFFFFFFu
+  // Small triangles' spans' sampling (texture_run, 64-bit hosts): for this texture, at this table
+  // generation.
+  TextureSampling exact{};
+  uint32_t exact_texture = kNone, exact_generation = 0;
+#endif
 
   // per sample row (l > 1)
   int32_t cur_px = 0;
@@ -692,9 +698,26 @@ struct Renderer {
     const Pixel c = a.color[0];
     TexturePlanes& planes = planes_of(slot, a.id);
     if (planes.exact) {
+#if UINTPTR_MAX > 0xFFFFFFFFu
+      // The white table, its lanes and the sampler's loop serve every small triangle of the texture
+      // whatever its colour: looked up again only for another texture, or when the pager would do
+      // more than answer the same (a table made since, another texture's white table asked for).
+      if (texture != exact_texture || bytes != exact.bytes || pager.lut_generation() != exact_generation ||
+          !pager.white_lut_ready(texture)) {
+        const Pixel* white = pager.white_lut(texture, bytes);
+        exact = texture_sampling(planes, scene->texture_texels[texture], bytes, white, 0xFFFFFF, c,
+                                 pager.lanes_for(texture, white, 0xFFFFFF, c, true));
+        exact_texture = texture;
+        exact_generation = pager.lut_generation();
+      }
+      exact.planes = &planes;
+      exact.colour = c;
+      sample_row(exact, x0, y, int32_t(n), out);
+#else
       const Pixel* white = pager.white_lut(texture, bytes);
       texture_row(planes, scene->texture_texels[texture], bytes, white, 0xFFFFFF, c, x0, y, int32_t(n), out,
                   pager.lanes_for(texture, white, 0xFFFFFF, c, true));
+#endif
       return true;
     }
     SlotLut& l = tex_lut[slot];

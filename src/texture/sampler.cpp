@@ -580,7 +580,7 @@ Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut,
 }
 
 // The runs: a Runs value whose next(&run) gives each run in turn, false after the last (texture_rows'
-// rows, texture_runs' list, texture_block's mask), place(run, &out) where its colours go, and
+// rows, texture_runs' list, sample_block's mask), place(run, &out) where its colours go, and
 // each(p, steps, out, f) calls f(uv, at) for each sample in turn with its exact coordinates
 // (ExactSteps: the planes stepped along each run) and where its colour goes. A list's colours go one
 // after another from out; a mask's to their places in a block of rows `stride` apart.
@@ -714,7 +714,7 @@ template <TexelFormat F>  // one row: no loop over rows around its samples
                 Pixel colour, int32_t x, int32_t y, int32_t n, Pixel* out) {
   exact_runs<F>(p, t, bytes, lut, lut_colour, colour, RowRuns{x, y, n, y + 1}, out);
 }
-template <TexelFormat F, typename Runs>  // texture_runs' list (ListRuns), texture_block's mask (MaskRuns)
+template <TexelFormat F, typename Runs>  // texture_runs' list (ListRuns), sample_block's mask (MaskRuns)
 [[gnu::noinline]] void exact_list(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                 Pixel colour, Runs runs, Pixel* out) {
   exact_runs<F>(p, t, bytes, lut, lut_colour, colour, runs, out);
@@ -892,7 +892,7 @@ void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes
 }
 
 namespace {
-// texture_runs and texture_block: a small triangle's runs through one loop of its format and table,
+// texture_runs and sample_block: a small triangle's runs through one loop of its format and table,
 // else each run through texture_rows.
 template <typename Runs>
 void runs_of(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
@@ -928,39 +928,53 @@ void texture_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes
 }
 
 namespace {
-// TextureBlocks::draw: a small triangle's samples through the table's lanes (exact_lanes_runs) or the
-// table (exact_runs) of format F, or any piece's as texture_runs draws them.
+// TextureSampling's loops: a small triangle's samples through the table's lanes (exact_lanes_runs) or
+// the table (exact_runs) of format F, or any piece's as texture_runs and texture_rows draw them.
 #if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
 template <TexelFormat F>
-void lanes_block(const TextureBlocks& b, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
-  exact_lanes_runs<F>(*b.planes, *b.texture, b.bytes, b.lanes, b.colour, MaskRuns{mask, x, y, stride}, out);
+void lanes_block(const TextureSampling& s, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
+  exact_lanes_runs<F>(*s.planes, *s.texture, s.bytes, s.lanes, s.colour, MaskRuns{mask, x, y, stride}, out);
 }
 template <TexelFormat F>
-void table_block(const TextureBlocks& b, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
-  exact_runs<F>(*b.planes, *b.texture, b.bytes, b.lut, b.lut_colour, b.colour, MaskRuns{mask, x, y, stride}, out);
+void table_block(const TextureSampling& s, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
+  exact_runs<F>(*s.planes, *s.texture, s.bytes, s.lut, s.lut_colour, s.colour, MaskRuns{mask, x, y, stride}, out);
+}
+template <TexelFormat F>
+void lanes_row(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out) {
+  exact_lanes_runs<F>(*s.planes, *s.texture, s.bytes, s.lanes, s.colour, RowRuns{x, y, n, y + 1}, out);
+}
+template <TexelFormat F>
+void table_row(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out) {
+  exact_runs<F>(*s.planes, *s.texture, s.bytes, s.lut, s.lut_colour, s.colour, RowRuns{x, y, n, y + 1}, out);
+}
+template <TexelFormat F>
+void exact_sampling(TextureSampling* s, bool in_lanes) {
+  s->block = in_lanes ? lanes_block<F> : table_block<F>;
+  s->row = in_lanes ? lanes_row<F> : table_row<F>;
 }
 #endif
-void any_block(const TextureBlocks& b, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
-  runs_of(*b.planes, *b.texture, b.bytes, b.lut, b.lut_colour, b.colour, MaskRuns{mask, x, y, stride}, out, b.lanes);
+void any_block(const TextureSampling& s, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
+  runs_of(*s.planes, *s.texture, s.bytes, s.lut, s.lut_colour, s.colour, MaskRuns{mask, x, y, stride}, out, s.lanes);
+}
+void any_row(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out) {
+  texture_rows(*s.planes, *s.texture, s.bytes, s.lut, s.lut_colour, s.colour, x, y, n, 1, out, s.lanes);
 }
 }  // namespace
 
-TextureBlocks texture_blocks(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut,
-                             Pixel lut_colour, Pixel colour, const uint64_t* lanes) {
-  TextureBlocks b{&p, &t, bytes, lut, lut_colour, colour, lanes, any_block};
+TextureSampling texture_sampling(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut,
+                                 Pixel lut_colour, Pixel colour, const uint64_t* lanes) {
+  TextureSampling s{&p, &t, bytes, lut, lut_colour, colour, lanes, any_block, any_row};
 #if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
-  if (!p.exact) return b;  // as runs_of
+  if (!p.exact) return s;  // as runs_of and texture_rows
   const bool in_lanes = lanes && blends_table_as_is(t, true, lut_colour, colour);
   switch (TexelFormat(t.format)) {
-    case TexelFormat::Palette8:
-      b.draw = in_lanes ? lanes_block<TexelFormat::Palette8> : table_block<TexelFormat::Palette8>;
-      break;
-    case TexelFormat::Grey4: b.draw = in_lanes ? lanes_block<TexelFormat::Grey4> : table_block<TexelFormat::Grey4>; break;
-    case TexelFormat::Rgb565: b.draw = in_lanes ? lanes_block<TexelFormat::Rgb565> : table_block<TexelFormat::Rgb565>; break;
+    case TexelFormat::Palette8: exact_sampling<TexelFormat::Palette8>(&s, in_lanes); break;
+    case TexelFormat::Grey4: exact_sampling<TexelFormat::Grey4>(&s, in_lanes); break;
+    case TexelFormat::Rgb565: exact_sampling<TexelFormat::Rgb565>(&s, in_lanes); break;
     default: break;
   }
 #endif
-  return b;
+  return s;
 }
 
 }  // namespace ml

@@ -85,24 +85,31 @@ struct SampleRun {
 void texture_runs(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
                   Pixel lut_colour, Pixel colour, const SampleRun* runs, int32_t count, Pixel* out,
                   const uint64_t* lanes = nullptr);
-// A small triangle's 8x8 blocks (the tiler's, on a 64-bit host): texture_runs for the set bits of a
-// block's mask (bit 8 r + c: sample (x + c, y + r)), the colour of sample (x + c, y + r) into
-// out[r stride + c] (a block buffer, or the band itself), without a list of its runs. What a piece's
-// blocks share is looked at once, by texture_blocks, which also picks the loop for its format, filter
-// and table; then texture_block for each block.
-struct TextureBlocks {
+// A piece's samples drawn many calls at a time with what the calls share looked at once (64-bit
+// hosts): texture_sampling takes the planes, texture, table and colours and picks the loop for the
+// format, filter and table; then each call draws a small triangle's (TexturePlanes::exact) samples
+// straight through that loop, others through texture_rows. The planes and the colour may be changed
+// between calls when the rest stays (a small triangle's table is its texture's white one whatever its
+// colour: blends_table_as_is).
+// sample_block: texture_runs for the set bits of an 8x8 mask (bit 8 r + c: sample (x + c, y + r)),
+// the colour of sample (x + c, y + r) into out[r stride + c] (a block buffer, or the band itself): the
+// tiler's blocks, without a list of their runs. sample_row: texture_row's samples x .. x + n - 1 of
+// row y (the scanline renderer's spans).
+struct TextureSampling {
   TexturePlanes* planes;
   const TextureTexels* texture;
   const uint8_t* bytes;
   const Pixel* lut;
   Pixel lut_colour, colour;
   const uint64_t* lanes;
-  void (*draw)(const TextureBlocks& blocks, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride);
+  void (*block)(const TextureSampling& s, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride);
+  void (*row)(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out);
 };
-TextureBlocks texture_blocks(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
-                             Pixel lut_colour, Pixel colour, const uint64_t* lanes = nullptr);
-inline void texture_block(const TextureBlocks& blocks, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
-  blocks.draw(blocks, mask, x, y, out, stride);
+TextureSampling texture_sampling(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes,
+                                 const Pixel* lut, Pixel lut_colour, Pixel colour, const uint64_t* lanes = nullptr);
+inline void sample_block(const TextureSampling& s, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
+  s.block(s, mask, x, y, out, stride);
 }
+inline void sample_row(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out) { s.row(s, x, y, n, out); }
 
 }  // namespace ml

@@ -404,7 +404,7 @@ class BandWriter : public CoverageWriter {
   }
 
 #if UINTPTR_MAX > 0xFFFFFFFFu
-  // write_textured_block on a 64-bit host: the samples straight from the mask (texture_block), into
+  // write_textured_block on a 64-bit host: the samples straight from the mask (sample_block), into
   // the band itself when it stores colours as they are, else into row_ at their bits and out as a mask
   // (or run by run). A small piece takes its texture's white table, its lanes and the sampler's loop
   // for it whatever its colour, so they are looked up again only for another texture, or when the
@@ -414,8 +414,8 @@ class BandWriter : public CoverageWriter {
     if (texture_ != blocks_texture_ || bytes != blocks_.bytes || pager_->lut_generation() != blocks_generation_ ||
         !pager_->white_lut_ready(texture_)) {
       const Pixel* white = pager_->white_lut(texture_, bytes);
-      blocks_ = texture_blocks(planes, scene_->texture_texels[texture_], bytes, white, 0xFFFFFF, colors_.flat,
-                               pager_->lanes_for(texture_, white, 0xFFFFFF, colors_.flat, true));
+      blocks_ = texture_sampling(planes, scene_->texture_texels[texture_], bytes, white, 0xFFFFFF, colors_.flat,
+                                 pager_->lanes_for(texture_, white, 0xFFFFFF, colors_.flat, true));
       blocks_texture_ = texture_;
       blocks_generation_ = pager_->lut_generation();
     }
@@ -423,7 +423,7 @@ class BandWriter : public CoverageWriter {
     static_assert(kRowPixels >= 64, "a block's colours fit the row buffer");
     uint32_t stride = 8;
     Pixel* band = out_.pixels_at(x, y, &stride);
-    texture_block(blocks_, mask, x, y, band ? band : row_, band ? stride : 8);
+    sample_block(blocks_, mask, x, y, band ? band : row_, band ? stride : 8);
     if (band || out_.put_mask(mask, x, y, row_)) return true;
     for (uint64_t m = mask; m != 0;) {  // row_[8 r + c] holds pixel (x + c, y + r)
       const int at = __builtin_ctzll(m), start = at & 7;
@@ -546,7 +546,7 @@ class BandWriter : public CoverageWriter {
   bool split_ = false;  // the piece is a BSP split part (begin_piece without the whole view)
   uint32_t texture_batch_ = kNone, batch_texture_ = kNone;  // texture_of_batch's last answer
   // Small pieces' blocks' sampling (write_textured_mask): for this texture, at this table generation.
-  TextureBlocks blocks_{};
+  TextureSampling blocks_{};
   uint32_t blocks_texture_ = kNone, blocks_generation_ = 0;
 #endif
 };
