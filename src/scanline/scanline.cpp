@@ -524,6 +524,7 @@ struct Renderer {
   // generation.
   TextureSampling exact{};
   uint32_t exact_texture = kNone, exact_generation = 0;
+  BatchTextures batch_textures;  // the activated triangles' textures
 #endif
 
   // per sample row (l > 1)
@@ -558,7 +559,11 @@ struct Renderer {
     }
     if (t.front_facing) flags |= kFront;
     if (tex_of) {
+#if UINTPTR_MAX > 0xFFFFFFFFu
+      tex_of[slot] = batch_textures.of_triangle(*scene, id);
+#else
       tex_of[slot] = triangle_texture(*scene, id);
+#endif
       tex_lut[slot] = SlotLut{nullptr, 0, 0, ~0u, 0};
       pager.add_user(tex_of[slot]);
       // The texture planes now, from the view transform at hand (planes_of would make it again).
@@ -1296,7 +1301,11 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
   stats->triangles_culled = for_each_piece(scene, s, [&](uint32_t ref, uint16_t y0, uint16_t y1) {
     if (n < cap) ys_space[n] = YSortEntry{ref, y0, y1};
     ++n;
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    if (r.pager.active()) r.pager.plan(r.batch_textures.of_triangle(scene, ref >> 4), y1);  // §5: last row; ref: make_ref
+#else
     if (r.pager.active()) r.pager.plan(triangle_texture(scene, ref >> 4), y1);  // §5: last row; ref: make_ref
+#endif
   });
   r.pager.finish_plan();
   Sizes z = sizes_for(scene, s, n, 0);

@@ -101,7 +101,7 @@ class PlaneCache {
 // The BandWriter's texture fast paths of 64-bit hosts (#if UINTPTR_MAX > 0xFFFFFFFFu: the boards keep
 // their flash and stack for other code): a small triangle's 8x8 block sampled straight from its mask
 // and written into the band (write_textured_mask; the boards make a list of runs, texture_runs, and
-// put them row by row), a piece's texture looked up once a batch (texture_of_batch), and the kept
+// put them row by row), a piece's texture looked up once a batch (BatchTextures), and the kept
 // planes given only to triangles that may be drawn again (may_draw_again).
 
 // Turns newly covered sample blocks (band-local rows) into band-buffer writes of the current piece's
@@ -144,7 +144,7 @@ class BandWriter : public CoverageWriter {
     shaded_ = false;
     wrote_piece_ = false;
 #if UINTPTR_MAX > 0xFFFFFFFFu
-    texture_ = pager_ ? texture_of_batch(triangle) : kNone;
+    texture_ = pager_ ? batch_textures_.of_triangle(*scene, triangle) : kNone;
 #else
     texture_ = pager_ ? triangle_texture(*scene, triangle) : kNone;
 #endif
@@ -336,17 +336,6 @@ class BandWriter : public CoverageWriter {
 #endif
   }
 
-#if UINTPTR_MAX > 0xFFFFFFFFu
-  // triangle_texture with the last batch's answer kept (a mesh's pieces come batch after batch).
-  uint32_t texture_of_batch(uint32_t triangle) {
-    const uint32_t batch = triangle_at(*scene_, triangle).batch;
-    if (batch != texture_batch_) {
-      texture_batch_ = batch;
-      batch_texture_ = triangle_texture(*scene_, triangle);
-    }
-    return batch_texture_;
-  }
-#endif
 
   // The piece's texel table for `samples` samples of its texture's `bytes`, looked up once for its
   // blocks: again only when the pager has made one since, or for a block large enough to have a
@@ -544,7 +533,7 @@ class BandWriter : public CoverageWriter {
 #if UINTPTR_MAX > 0xFFFFFFFFu  // the fast paths' state
   int band_end_ = 0;    // the band's end (pixel rows, may_draw_again)
   bool split_ = false;  // the piece is a BSP split part (begin_piece without the whole view)
-  uint32_t texture_batch_ = kNone, batch_texture_ = kNone;  // texture_of_batch's last answer
+  BatchTextures batch_textures_;  // the pieces' textures
   // Small pieces' blocks' sampling (write_textured_mask): for this texture, at this table generation.
   TextureSampling blocks_{};
   uint32_t blocks_texture_ = kNone, blocks_generation_ = 0;
@@ -895,25 +884,6 @@ Status check_options(const Camera& camera, const RenderOptions& options) {
     return error(StatusCode::InvalidArgument, "work image must match the screen size");
   return BandOutput::check(options.output);
 }
-
-// triangle_texture by a triangle's batch, the last batch's answer kept: a mesh's triangles come batch
-// by batch, so the material is looked up about once a batch.
-class BatchTextures {
- public:
-  explicit BatchTextures(const Scene& scene) : scene_(scene) {}
-  uint32_t of(uint32_t batch) {
-    if (batch != batch_) {
-      batch_ = batch;
-      const Material& m = scene_.materials[scene_.batches[batch].material];
-      texture_ = material_texels(scene_, m) ? m.texture : kNone;
-    }
-    return texture_;
-  }
-
- private:
-  const Scene& scene_;
-  uint32_t batch_ = kNone, texture_ = kNone;
-};
 
 // When each texture is needed next in the tiler's order of work: bands top to bottom, each walking
 // the BSP front to back — the same walk in every band, so pieces are numbered once. Planned before
@@ -1369,10 +1339,10 @@ int TilerFrame::rows_at_once(size_t spare) const {
 
 void TilerFrame::plan_textures() {
   if (!pager_.active()) return;
-  BatchTextures textures(scene_);
+  BatchTextures textures;
   for (uint32_t id = 0; id < scene_.triangle_count; ++id) {
     const Triangle tri = triangle_at(scene_, id);
-    const uint32_t texture = kVertexCache ? textures.of(tri.batch) : triangle_texture(scene_, id);  // (boards: flash)
+    const uint32_t texture = kVertexCache ? textures.of(scene_, tri.batch) : triangle_texture(scene_, id);  // (boards: flash)
     if (texture == kNone) continue;
     Vec3i world[3];
     vertices_world(scene_, tri.batch, tri.v, world);
@@ -1394,7 +1364,7 @@ void TilerFrame::plan_textures() {
   uint32_t found = 0;
   walk_pieces<false>([&](uint32_t p, uint32_t k) {
     const uint32_t triangle = bsp_piece(scene_, p).triangle;
-    const uint32_t texture = kVertexCache ? textures.of(triangle_at(scene_, triangle).batch) : triangle_texture(scene_, triangle);
+    const uint32_t texture = kVertexCache ? textures.of_triangle(scene_, triangle) : triangle_texture(scene_, triangle);
     if (texture != kNone && texture_plan_.piece(texture, k)) ++found;
     return !kVertexCache || found < count;
   });
@@ -1402,7 +1372,7 @@ void TilerFrame::plan_textures() {
     found = 0;
     texture_plan_.forget_last_pieces();
     walk_pieces<true>([&](uint32_t p, uint32_t k) {
-      const uint32_t texture = textures.of(triangle_at(scene_, bsp_piece(scene_, p).triangle).batch);
+      const uint32_t texture = textures.of_triangle(scene_, bsp_piece(scene_, p).triangle);
       if (texture != kNone && texture_plan_.last_piece(texture, k)) ++found;
       return found < count;
     });
