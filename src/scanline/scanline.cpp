@@ -1301,8 +1301,8 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
   stats->triangles_culled = for_each_piece(scene, s, [&](uint32_t ref, uint16_t y0, uint16_t y1) {
     if (n < cap) ys_space[n] = YSortEntry{ref, y0, y1};
     ++n;
-#if UINTPTR_MAX > 0xFFFFFFFFu
-    if (r.pager.active()) r.pager.plan(r.batch_textures.of_triangle(scene, ref >> 4), y1);  // §5: last row; ref: make_ref
+#if UINTPTR_MAX > 0xFFFFFFFFu  // §5: last row; ref: make_ref
+    if (r.pager.active()) r.pager.plan(r.batch_textures.of_triangle(scene, ref >> 4), y1);
 #else
     if (r.pager.active()) r.pager.plan(triangle_texture(scene, ref >> 4), y1);  // §5: last row; ref: make_ref
 #endif

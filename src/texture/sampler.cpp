@@ -665,9 +665,13 @@ ML_RUN_HELPER void bilinear_runs(TexturePlanes& p, const TextureTexels& t, const
                                  Runs runs, Pixel* out) {
   ExactSteps steps(p);
   if (repeat)
-    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA { *at = bilinear_tinted<true>(t, uv[0], uv[1], fetch, tint); });
+    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
+      *at = bilinear_tinted<true>(t, uv[0], uv[1], fetch, tint);
+    });
   else
-    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA { *at = bilinear_tinted<false>(t, uv[0], uv[1], fetch, tint); });
+    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
+      *at = bilinear_tinted<false>(t, uv[0], uv[1], fetch, tint);
+    });
 }
 
 template <TexelFormat F, typename Runs>
@@ -918,7 +922,8 @@ void runs_of(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, con
   }
 #endif
   (void)lanes;
-  for (SampleRun run; runs.next(&run);) texture_rows(p, t, bytes, lut, lut_colour, colour, run.x, run.y, run.n, 1, runs.place(run, &out));
+  for (SampleRun run; runs.next(&run);)
+    texture_rows(p, t, bytes, lut, lut_colour, colour, run.x, run.y, run.n, 1, runs.place(run, &out));
 }
 }  // namespace
 

@@ -336,7 +336,6 @@ class BandWriter : public CoverageWriter {
 #endif
   }
 
-
   // The piece's texel table for `samples` samples of its texture's `bytes`, looked up once for its
   // blocks: again only when the pager has made one since, or for a block large enough to have a
   // table of the colour made; a small triangle's is the texture's white one.
@@ -422,7 +421,6 @@ class BandWriter : public CoverageWriter {
     }
     return true;
   }
-
 #endif
 
   // A block of a textured piece: flat colours a few rows at a time (texture/sampler.h texture_rows),
@@ -1342,7 +1340,7 @@ void TilerFrame::plan_textures() {
   BatchTextures textures;
   for (uint32_t id = 0; id < scene_.triangle_count; ++id) {
     const Triangle tri = triangle_at(scene_, id);
-    const uint32_t texture = kVertexCache ? textures.of(scene_, tri.batch) : triangle_texture(scene_, id);  // (boards: flash)
+    const uint32_t texture = kVertexCache ? textures.of(scene_, tri.batch) : triangle_texture(scene_, id);  // boards: flash
     if (texture == kNone) continue;
     Vec3i world[3];
     vertices_world(scene_, tri.batch, tri.v, world);
