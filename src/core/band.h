@@ -68,6 +68,16 @@ class BandOutput {
   bool fill_mask(uint64_t mask, int x, int y, Pixel value) {
     return packer_.fill_mask(current_, stride_, x, y - top_, mask, value);
   }
+  // The set bits of an 8x8 mask at (x, y), pixels[8 r + c] for pixel (x + c, y + r)
+  // (PixelPacker::put_mask); false when the format needs them run by run.
+  bool put_mask(uint64_t mask, int x, int y, const Pixel* pixels) {
+    return packer_.put_mask(current_, stride_, x, y - top_, mask, pixels);
+  }
+  // Pixel (x, y) in the band for writing colours directly, rows *pixel_stride apart; null when the
+  // format does not store them as they are (PixelPacker::pixels_at).
+  Pixel* pixels_at(int x, int y, uint32_t* pixel_stride) {
+    return packer_.pixels_at(current_, stride_, x, y - top_, pixel_stride);
+  }
   // Hands the finished render band to the sink, a band at a time.
   Status finish_band();
   // Waits until no buffer is lent, then ends the frame.

@@ -315,6 +315,55 @@ bool PixelPacker::fill_mask(uint8_t* band, uint32_t stride, int x, int row, uint
   return true;
 }
 
+#if UINTPTR_MAX > 0xFFFFFFFFu  // 64-bit hosts' textured blocks; nothing of it in the boards' flash
+namespace {
+
+// The set bits of an 8x8 mask (row 0 at `line`), kBytes bytes a pixel, store(at, pixels[bit]) at each.
+template <int kBytes, typename Store>
+void put_mask_bytes(uint8_t* line, uint32_t stride, uint64_t mask, const Pixel* pixels, Store&& store) {
+  if (mask == 0) return;
+  const int skip = __builtin_ctzll(mask) >> 3;  // empty rows above the first set bit
+  line += uint32_t(skip) * stride;
+  pixels += 8 * skip;
+  for (mask >>= 8 * skip; mask != 0; mask >>= 8, line += stride, pixels += 8)
+    for (uint32_t bits = uint32_t(mask) & 0xFFu; bits != 0; bits &= bits - 1)
+      store(line + __builtin_ctz(bits) * kBytes, pixels[__builtin_ctz(bits)]);
+}
+
+}  // namespace
+
+bool PixelPacker::put_mask(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, const Pixel* pixels) const {
+  if (dither_) return false;
+  uint8_t* line = band + uint32_t(row) * stride;
+  switch (format_) {
+    case PixelFormat::Rgb565Be:
+      put_mask_bytes<2>(line + 2 * x, stride, mask, pixels, [cache = Rgb565Cache()](uint8_t* at, Pixel p) mutable {
+        const uint32_t v = cache(p);
+        at[0] = uint8_t(v >> 8);
+        at[1] = uint8_t(v);
+      });
+      return true;
+    case PixelFormat::Rgb565Le:
+      put_mask_bytes<2>(line + 2 * x, stride, mask, pixels, [cache = Rgb565Cache()](uint8_t* at, Pixel p) mutable {
+        const uint32_t v = cache(p);
+        at[0] = uint8_t(v);
+        at[1] = uint8_t(v >> 8);
+      });
+      return true;
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    case PixelFormat::Xrgb8888:  // as put_row: a Pixel in little-endian memory is B, G, R, 0
+    case PixelFormat::Id32:
+      put_mask_bytes<4>(line + 4 * x, stride, mask, pixels, [](uint8_t* at, Pixel p) { memcpy(at, &p, 4); });
+      return true;
+#endif
+    default:
+      return false;
+  }
+}
+#else
+bool PixelPacker::put_mask(uint8_t*, uint32_t, int, int, uint64_t, const Pixel*) const { return false; }
+#endif
+
 void PixelPacker::fill(uint8_t* band, uint32_t stride, int x, int row, int frame_y, int w, int h,
                        Pixel value) const {
   const int bits = format_bits_per_pixel(format_);

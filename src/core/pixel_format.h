@@ -60,6 +60,25 @@ class PixelPacker {
   // less than 16 bits a pixel (grey dithers by default; one loop less in a board's flash): then the
   // caller fills the mask's runs.
   bool fill_mask(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, Pixel value);
+  // The set bits of an 8x8 mask (as fill_mask) in their own colours, pixels[bit] (bit = r * 8 + c):
+  // the stored values put_row gives them. False (nothing written) for dithering and formats of less
+  // than 16 bits a pixel (the caller puts the mask's runs). For 64-bit hosts' textured blocks.
+  bool put_mask(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, const Pixel* pixels) const;
+  // Where pixel (x, row) lies in the band when the format stores a Pixel as it is (XRGB8888 on a
+  // little-endian machine, aligned), with the Pixels between rows in *pixel_stride: its colours may be
+  // written there directly (put_row's values). Null otherwise.
+  Pixel* pixels_at(uint8_t* band, uint32_t stride, int x, int row, uint32_t* pixel_stride) const {
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    uint8_t* at = band + uint32_t(row) * stride + 4 * uint32_t(x);
+    if (format_ != PixelFormat::Xrgb8888 || dither_ || ((reinterpret_cast<uintptr_t>(at) | stride) & 3) != 0)
+      return nullptr;
+    *pixel_stride = stride / 4;
+    return reinterpret_cast<Pixel*>(at);
+#else
+    (void)band, (void)stride, (void)x, (void)row, (void)pixel_stride;
+    return nullptr;
+#endif
+  }
 
  private:
   PixelFormat format_ = PixelFormat::Xrgb8888;

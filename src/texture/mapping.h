@@ -217,6 +217,26 @@ inline void texture_uv(TexturePlanes& p, int32_t x, int32_t y, int32_t uv[2]) {
 // material has no texels. Only valid on a Scene from read_scene.
 uint32_t triangle_texture(const Scene& scene, uint32_t id);
 
+// triangle_texture by a triangle's batch, the last batch's answer kept: a mesh's triangles (and BSP
+// pieces) come batch after batch. For the renderers' loops on 64-bit hosts (the boards look each
+// triangle's up: flash).
+class BatchTextures {
+ public:
+  // (One scene's: the answer kept is for the scene last asked about.)
+  uint32_t of(const Scene& scene, uint32_t batch) {
+    if (batch != batch_) {
+      batch_ = batch;
+      const Material& m = scene.materials[scene.batches[batch].material];
+      texture_ = material_texels(scene, m) ? m.texture : kNone;
+    }
+    return texture_;
+  }
+  uint32_t of_triangle(const Scene& scene, uint32_t id) { return of(scene, triangle_at(scene, id).batch); }
+
+ private:
+  uint32_t batch_ = kNone, texture_ = kNone;
+};
+
 // make_texture_planes for triangle `id` of the scene (its world positions and TEXCOORD_0), drawn with
 // texture `texture`, and whether it is small (exact: its sample box from its projected vertices, so
 // that both renderers decide alike).

@@ -89,9 +89,11 @@ class TexturePager {
   // from one call to the next while no table is made. A small triangle's samples take it: fewer in all
   // than a table of their colour has entries. Null as texel_lut.
   const Pixel* white_lut(uint32_t t, const uint8_t* bytes) {
-    if (t == white_texture_ && white_generation_ == lut_clock_made_) return white_;
+    if (white_lut_ready(t)) return white_;
     return find_white_lut(t, bytes);
   }
+  // Whether white_lut(t) would answer its last answer again, doing nothing else.
+  bool white_lut_ready(uint32_t t) const { return t == white_texture_ && white_generation_ == lut_clock_made_; }
   // The colours of table `lut` of texture t (texel_lut's or white_lut's answer, still valid) in 16-bit
   // lanes of a 64-bit word (spread_texel_lut), made if needed: the bilinear filters blend them
   // without spreading each texel. 64-bit hosts only, one beside each table (null on the boards, whose

@@ -16,8 +16,10 @@ namespace {
 // differently); the firmware leaves them to -Os, for its code budget.
 #ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
 #define ML_RUN_HELPER __attribute__((always_inline)) inline
+#define ML_RUN_LAMBDA __attribute__((always_inline))
 #else
 #define ML_RUN_HELPER inline
+#define ML_RUN_LAMBDA
 #endif
 
 // A texel index along one axis of `size` texels (a power of two) under wrap mode M.
@@ -577,121 +579,176 @@ Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut,
   return modulate_texel(fetch(wrap(su >> 16, t.width, t.wrap_s), wrap(sv >> 16, t.height, t.wrap_t)), after);
 }
 
+// The runs: a Runs value whose next(&run) gives each run in turn, false after the last (texture_rows'
+// rows, texture_runs' list, sample_block's mask), place(run, &out) where its colours go, and
+// each(p, steps, out, f) calls f(uv, at) for each sample in turn with its exact coordinates
+// (ExactSteps: the planes stepped along each run) and where its colour goes. A list's colours go one
+// after another from out; a mask's to their places in a block of rows `stride` apart.
+template <typename Runs, typename Sample>
+ML_RUN_HELPER void each_of_runs(Runs& runs, const TexturePlanes& p, ExactSteps& steps, Pixel* out, Sample sample) {
+  int32_t uv[2];
+  for (SampleRun run; runs.next(&run);) {
+    steps.start(p, run.x, run.y);
+    for (int32_t i = 0; i < run.n; ++i) steps.next(uv), sample(uv, out++);
+  }
+}
+struct RowRuns {  // rows y .. end - 1 of samples x .. x + n - 1
+  int32_t x, y, n, end;
+  bool next(SampleRun* run) {
+    if (y == end) return false;
+    *run = SampleRun{x, y++, n};
+    return true;
+  }
+  Pixel* place(const SampleRun& run, Pixel** out) const { return (*out += run.n) - run.n; }
+  template <typename Sample>
+  ML_RUN_HELPER void each(const TexturePlanes& p, ExactSteps& steps, Pixel* out, Sample sample) {
+    each_of_runs(*this, p, steps, out, sample);
+  }
+};
+struct ListRuns {
+  const SampleRun *at, *end;
+  bool next(SampleRun* run) {
+    if (at == end) return false;
+    *run = *at++;
+    return true;
+  }
+  Pixel* place(const SampleRun& run, Pixel** out) const { return (*out += run.n) - run.n; }
+  template <typename Sample>
+  ML_RUN_HELPER void each(const TexturePlanes& p, ExactSteps& steps, Pixel* out, Sample sample) {
+    each_of_runs(*this, p, steps, out, sample);
+  }
+};
+// The set bits of an 8x8 mask (bit 8 r + c: sample (x + c, y + r)), a run of a row's adjacent bits at
+// a time, in bit order; sample (x + c, y + r)'s colour goes to out[r stride + c].
+struct MaskRuns {
+  uint64_t mask;
+  int32_t x, y;
+  uint32_t stride;
+  bool next(SampleRun* run) {
+    if (mask == 0) return false;
+    const int at = __builtin_ctzll(mask), start = at & 7;
+    const uint32_t rest = uint32_t(mask >> at) & (0xFFu >> start);  // the row from the run's start
+    const int n = __builtin_ctz(~rest);                               // ends at the row's end at the latest
+    *run = SampleRun{x + start, y + (at >> 3), n};
+    mask &= ~(((uint64_t(1) << n) - 1) << at);
+    return true;
+  }
+  Pixel* place(const SampleRun& run, Pixel** out) const {
+    return *out + uint32_t(run.y - y) * stride + uint32_t(run.x - x);
+  }
+  // One loop over the set bits (a block's runs are two or three samples long: a loop over runs
+  // around one over their samples costs more than the test of each bit against the last).
+  template <typename Sample>
+  ML_RUN_HELPER void each(const TexturePlanes& p, ExactSteps& steps, Pixel* out, Sample sample) {
+    int32_t uv[2];
+    int last = -2;  // the previous sample's bit
+    for (uint64_t m = mask; m != 0; m &= m - 1) {
+      const int at = __builtin_ctzll(m);
+      if (at != last + 1 || (at & 7) == 0) steps.start(p, x + (at & 7), y + (at >> 3));  // a run starts
+      last = at;
+      steps.next(uv);
+      sample(uv, out + uint32_t(at >> 3) * stride + uint32_t(at & 7));
+    }
+  }
+};
+
 #ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
 // A small triangle's samples (TexturePlanes::exact): exact coordinates sample by sample along each
 // run (ExactSteps), each sample's colour through the table (nearest filtering: its texel taken here,
 // format F known; bilinear, the white table's texels filtered, then multiplied) or decoded, without
 // one. (The firmware, ML_TEXTURE_RUNS_GENERAL_ONLY, for its code budget: texture_rows' samples one
 // by one, each exact.)
-// The runs: run_at(k) for k < count (texture_rows' rows, texture_runs' runs).
 // Bilinear samples along the runs at exact coordinates (ExactSteps), each the filter of the texels
 // `fetch` gives, then multiplied by `tint`.
-template <typename Fetch, typename RunAt>
+template <typename Fetch, typename Runs>
 ML_RUN_HELPER void bilinear_runs(TexturePlanes& p, const TextureTexels& t, const Fetch& fetch, const Tint& tint, bool repeat,
-                                 int32_t count, RunAt run_at, Pixel* out) {
+                                 Runs runs, Pixel* out) {
   ExactSteps steps(p);
-  int32_t uv[2];
-  for (int32_t k = 0; k < count; ++k) {
-    const SampleRun run = run_at(k);
-    steps.start(p, run.x, run.y);
-    if (repeat)
-      for (int32_t i = 0; i < run.n; ++i) steps.next(uv), *out++ = bilinear_tinted<true>(t, uv[0], uv[1], fetch, tint);
-    else
-      for (int32_t i = 0; i < run.n; ++i) steps.next(uv), *out++ = bilinear_tinted<false>(t, uv[0], uv[1], fetch, tint);
-  }
+  if (repeat)
+    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
+      *at = bilinear_tinted<true>(t, uv[0], uv[1], fetch, tint);
+    });
+  else
+    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
+      *at = bilinear_tinted<false>(t, uv[0], uv[1], fetch, tint);
+    });
 }
 
-template <TexelFormat F, typename RunAt>
+template <TexelFormat F, typename Runs>
 ML_RUN_HELPER void exact_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
-                Pixel colour, int32_t count, RunAt run_at, Pixel* out) {
+                Pixel colour, Runs runs, Pixel* out) {
   const bool nearest = lut && t.filter != uint8_t(TextureFilter::Bilinear);
   const Pixel after = lut_colour == colour ? 0xFFFFFF : colour;
   const LutTexels<F> fetch(t, bytes, lut);
   const int sb[2] = {16 - p.size_bits[0], 16 - p.size_bits[1]};  // floor(u W / 2^16) for W = 2^size_bits
   const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
   ExactSteps steps(p);
-  int32_t uv[2];
   if (nearest && repeat) {  // wrapping is a mask (wrap_as<Repeat>)
     const int32_t mu = int32_t(t.width) - 1, mv = int32_t(t.height) - 1;
-    for (int32_t k = 0; k < count; ++k) {
-      const SampleRun run = run_at(k);
-      steps.start(p, run.x, run.y);
-      for (int32_t i = 0; i < run.n; ++i) {
-        steps.next(uv);
-        const Pixel texel = fetch((uv[0] >> sb[0]) & mu, (uv[1] >> sb[1]) & mv);
-        *out++ = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
-      }
-    }
+    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
+      const Pixel texel = fetch((uv[0] >> sb[0]) & mu, (uv[1] >> sb[1]) & mv);
+      *at = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
+    });
     return;
   }
   if (nearest) {
-    for (int32_t k = 0; k < count; ++k) {
-      const SampleRun run = run_at(k);
-      steps.start(p, run.x, run.y);
-      for (int32_t i = 0; i < run.n; ++i) {
-        steps.next(uv);
-        const Pixel texel = fetch(wrap(uv[0] >> sb[0], t.width, t.wrap_s), wrap(uv[1] >> sb[1], t.height, t.wrap_t));
-        *out++ = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
-      }
-    }
+    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
+      const Pixel texel = fetch(wrap(uv[0] >> sb[0], t.width, t.wrap_s), wrap(uv[1] >> sb[1], t.height, t.wrap_t));
+      *at = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
+    });
     return;
   }
   if (lut && lut_colour == 0xFFFFFF) {  // bilinear: the filter of the texels, then the product, as sample_texture
-    bilinear_runs(p, t, fetch, tint_of(colour), repeat, count, run_at, out);
+    bilinear_runs(p, t, fetch, tint_of(colour), repeat, runs, out);
     return;
   }
-  for (int32_t k = 0; k < count; ++k) {
-    const SampleRun run = run_at(k);
-    steps.start(p, run.x, run.y);
-    for (int32_t i = 0; i < run.n; ++i) {
-      steps.next(uv);
-      *out++ = lut ? sample_texture(t, bytes, lut, lut_colour, uv, colour, true) : textured_colour(t, bytes, uv, colour, true);
-    }
-  }
+  runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
+    *at = lut ? sample_texture(t, bytes, lut, lut_colour, uv, colour, true) : textured_colour(t, bytes, uv, colour, true);
+  });
 }
 
 // exact_runs for texture_rows' block of rows and texture_runs' runs, format F.
 template <TexelFormat F>
 [[gnu::noinline]] void exact_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                 Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out) {
-  exact_runs<F>(p, t, bytes, lut, lut_colour, colour, rows, [&](int32_t r) { return SampleRun{x, y + r, n}; }, out);
+  exact_runs<F>(p, t, bytes, lut, lut_colour, colour, RowRuns{x, y, n, y + rows}, out);
 }
 template <TexelFormat F>  // one row: no loop over rows around its samples
 [[gnu::noinline]] void exact_row(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                 Pixel colour, int32_t x, int32_t y, int32_t n, Pixel* out) {
-  exact_runs<F>(p, t, bytes, lut, lut_colour, colour, 1, [&](int32_t) { return SampleRun{x, y, n}; }, out);
+  exact_runs<F>(p, t, bytes, lut, lut_colour, colour, RowRuns{x, y, n, y + 1}, out);
 }
-template <TexelFormat F>
+template <TexelFormat F, typename Runs>  // texture_runs' list (ListRuns), sample_block's mask (MaskRuns)
 [[gnu::noinline]] void exact_list(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
-                Pixel colour, const SampleRun* runs, int32_t count, Pixel* out) {
-  exact_runs<F>(p, t, bytes, lut, lut_colour, colour, count, [&](int32_t k) { return runs[k]; }, out);
+                Pixel colour, Runs runs, Pixel* out) {
+  exact_runs<F>(p, t, bytes, lut, lut_colour, colour, runs, out);
 }
 
 #if UINTPTR_MAX > 0xFFFFFFFFu
 // exact_runs' bilinear samples through the white table with its colours already in lanes
 // (TexturePager::lanes_of): the filter of the texels, then the product, without spreading each
 // texel. Functions of their own, so that exact_runs' loops keep their code.
-template <TexelFormat F, typename RunAt>
+template <TexelFormat F, typename Runs>
 ML_RUN_HELPER void exact_lanes_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const uint64_t* lanes,
-                                    Pixel colour, int32_t count, RunAt run_at, Pixel* out) {
+                                    Pixel colour, Runs runs, Pixel* out) {
   const LutTexels<F, Spread> fetch(t, bytes, lanes);
   const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
-  bilinear_runs(p, t, fetch, tint_of(colour), repeat, count, run_at, out);
+  bilinear_runs(p, t, fetch, tint_of(colour), repeat, runs, out);
 }
 template <TexelFormat F>
 [[gnu::noinline]] void exact_lanes_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const uint64_t* lanes,
                                         Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out) {
-  exact_lanes_runs<F>(p, t, bytes, lanes, colour, rows, [&](int32_t r) { return SampleRun{x, y + r, n}; }, out);
+  exact_lanes_runs<F>(p, t, bytes, lanes, colour, RowRuns{x, y, n, y + rows}, out);
 }
 template <TexelFormat F>
 [[gnu::noinline]] void exact_lanes_row(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const uint64_t* lanes,
                                        Pixel colour, int32_t x, int32_t y, int32_t n, Pixel* out) {
-  exact_lanes_runs<F>(p, t, bytes, lanes, colour, 1, [&](int32_t) { return SampleRun{x, y, n}; }, out);
+  exact_lanes_runs<F>(p, t, bytes, lanes, colour, RowRuns{x, y, n, y + 1}, out);
 }
-template <TexelFormat F>
+template <TexelFormat F, typename Runs>
 [[gnu::noinline]] void exact_lanes_list(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const uint64_t* lanes,
-                                        Pixel colour, const SampleRun* runs, int32_t count, Pixel* out) {
-  exact_lanes_runs<F>(p, t, bytes, lanes, colour, count, [&](int32_t k) { return runs[k]; }, out);
+                                        Pixel colour, Runs runs, Pixel* out) {
+  exact_lanes_runs<F>(p, t, bytes, lanes, colour, runs, out);
 }
 #endif
 
@@ -838,33 +895,91 @@ void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes
   });
 }
 
-void texture_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
-                  Pixel colour, const SampleRun* runs, int32_t count, Pixel* out, const uint64_t* lanes) {
+namespace {
+// texture_runs and sample_block: a small triangle's runs through one loop of its format and table,
+// else each run through texture_rows.
+template <typename Runs>
+void runs_of(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
+             Pixel colour, Runs runs, Pixel* out, const uint64_t* lanes) {
 #ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
   if (p.exact) {
 #if UINTPTR_MAX > 0xFFFFFFFFu
     if (lanes && blends_table_as_is(t, true, lut_colour, colour)) {
       switch (TexelFormat(t.format)) {
-        case TexelFormat::Palette8: return exact_lanes_list<TexelFormat::Palette8>(p, t, bytes, lanes, colour, runs, count, out);
-        case TexelFormat::Grey4: return exact_lanes_list<TexelFormat::Grey4>(p, t, bytes, lanes, colour, runs, count, out);
-        case TexelFormat::Rgb565: return exact_lanes_list<TexelFormat::Rgb565>(p, t, bytes, lanes, colour, runs, count, out);
+        case TexelFormat::Palette8: return exact_lanes_list<TexelFormat::Palette8>(p, t, bytes, lanes, colour, runs, out);
+        case TexelFormat::Grey4: return exact_lanes_list<TexelFormat::Grey4>(p, t, bytes, lanes, colour, runs, out);
+        case TexelFormat::Rgb565: return exact_lanes_list<TexelFormat::Rgb565>(p, t, bytes, lanes, colour, runs, out);
         default: break;
       }
     }
 #endif
     switch (TexelFormat(t.format)) {
-      case TexelFormat::Palette8: return exact_list<TexelFormat::Palette8>(p, t, bytes, lut, lut_colour, colour, runs, count, out);
-      case TexelFormat::Grey4: return exact_list<TexelFormat::Grey4>(p, t, bytes, lut, lut_colour, colour, runs, count, out);
-      case TexelFormat::Rgb565: return exact_list<TexelFormat::Rgb565>(p, t, bytes, lut, lut_colour, colour, runs, count, out);
+      case TexelFormat::Palette8: return exact_list<TexelFormat::Palette8>(p, t, bytes, lut, lut_colour, colour, runs, out);
+      case TexelFormat::Grey4: return exact_list<TexelFormat::Grey4>(p, t, bytes, lut, lut_colour, colour, runs, out);
+      case TexelFormat::Rgb565: return exact_list<TexelFormat::Rgb565>(p, t, bytes, lut, lut_colour, colour, runs, out);
       default: break;
     }
   }
 #endif
   (void)lanes;
-  for (int32_t k = 0; k < count; ++k) {
-    texture_rows(p, t, bytes, lut, lut_colour, colour, runs[k].x, runs[k].y, runs[k].n, 1, out);
-    out += runs[k].n;
+  for (SampleRun run; runs.next(&run);)
+    texture_rows(p, t, bytes, lut, lut_colour, colour, run.x, run.y, run.n, 1, runs.place(run, &out));
+}
+}  // namespace
+
+void texture_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
+                  Pixel colour, const SampleRun* runs, int32_t count, Pixel* out, const uint64_t* lanes) {
+  runs_of(p, t, bytes, lut, lut_colour, colour, ListRuns{runs, runs + count}, out, lanes);
+}
+
+namespace {
+// TextureSampling's loops: a small triangle's samples through the table's lanes (exact_lanes_runs) or
+// the table (exact_runs) of format F, or any piece's as texture_runs and texture_rows draw them.
+#if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
+template <TexelFormat F>
+void lanes_block(const TextureSampling& s, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
+  exact_lanes_runs<F>(*s.planes, *s.texture, s.bytes, s.lanes, s.colour, MaskRuns{mask, x, y, stride}, out);
+}
+template <TexelFormat F>
+void table_block(const TextureSampling& s, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
+  exact_runs<F>(*s.planes, *s.texture, s.bytes, s.lut, s.lut_colour, s.colour, MaskRuns{mask, x, y, stride}, out);
+}
+template <TexelFormat F>
+void lanes_row(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out) {
+  exact_lanes_runs<F>(*s.planes, *s.texture, s.bytes, s.lanes, s.colour, RowRuns{x, y, n, y + 1}, out);
+}
+template <TexelFormat F>
+void table_row(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out) {
+  exact_runs<F>(*s.planes, *s.texture, s.bytes, s.lut, s.lut_colour, s.colour, RowRuns{x, y, n, y + 1}, out);
+}
+template <TexelFormat F>
+void exact_sampling(TextureSampling* s, bool in_lanes) {
+  s->block = in_lanes ? lanes_block<F> : table_block<F>;
+  s->row = in_lanes ? lanes_row<F> : table_row<F>;
+}
+#endif
+void any_block(const TextureSampling& s, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
+  runs_of(*s.planes, *s.texture, s.bytes, s.lut, s.lut_colour, s.colour, MaskRuns{mask, x, y, stride}, out, s.lanes);
+}
+void any_row(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out) {
+  texture_rows(*s.planes, *s.texture, s.bytes, s.lut, s.lut_colour, s.colour, x, y, n, 1, out, s.lanes);
+}
+}  // namespace
+
+TextureSampling texture_sampling(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut,
+                                 Pixel lut_colour, Pixel colour, const uint64_t* lanes) {
+  TextureSampling s{&p, &t, bytes, lut, lut_colour, colour, lanes, any_block, any_row};
+#if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
+  if (!p.exact) return s;  // as runs_of and texture_rows
+  const bool in_lanes = lanes && blends_table_as_is(t, true, lut_colour, colour);
+  switch (TexelFormat(t.format)) {
+    case TexelFormat::Palette8: exact_sampling<TexelFormat::Palette8>(&s, in_lanes); break;
+    case TexelFormat::Grey4: exact_sampling<TexelFormat::Grey4>(&s, in_lanes); break;
+    case TexelFormat::Rgb565: exact_sampling<TexelFormat::Rgb565>(&s, in_lanes); break;
+    default: break;
   }
+#endif
+  return s;
 }
 
 }  // namespace ml

@@ -85,5 +85,33 @@ struct SampleRun {
 void texture_runs(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,
                   Pixel lut_colour, Pixel colour, const SampleRun* runs, int32_t count, Pixel* out,
                   const uint64_t* lanes = nullptr);
+// A piece's samples drawn many calls at a time with what the calls share looked at once (64-bit
+// hosts): texture_sampling takes the planes, texture, table and colours and picks the loop for the
+// format, filter and table; then each call draws a small triangle's (TexturePlanes::exact) samples
+// straight through that loop, others through texture_rows. Between calls the planes may be changed
+// for another small triangle's and the colour for its colour, the rest staying (a small triangle's
+// table is its texture's white one whatever its colour: blends_table_as_is).
+// sample_block: texture_runs for the set bits of an 8x8 mask (bit 8 r + c: sample (x + c, y + r)),
+// the colour of sample (x + c, y + r) into out[r stride + c] (a block buffer, or the band itself): the
+// tiler's blocks, without a list of their runs. sample_row: texture_row's samples x .. x + n - 1 of
+// row y (the scanline renderer's spans).
+struct TextureSampling {
+  TexturePlanes* planes;
+  const TextureTexels* texture;
+  const uint8_t* bytes;
+  const Pixel* lut;
+  Pixel lut_colour, colour;
+  const uint64_t* lanes;
+  void (*block)(const TextureSampling& s, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride);
+  void (*row)(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out);
+};
+TextureSampling texture_sampling(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes,
+                                 const Pixel* lut, Pixel lut_colour, Pixel colour, const uint64_t* lanes = nullptr);
+inline void sample_block(const TextureSampling& s, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
+  s.block(s, mask, x, y, out, stride);
+}
+inline void sample_row(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out) {
+  s.row(s, x, y, n, out);
+}
 
 }  // namespace ml

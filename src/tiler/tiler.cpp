@@ -3,6 +3,7 @@
 // background is tiled through the root mask last. See docs/tiler.md.
 #include "tiler/tiler.h"
 
+#include <stddef.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -47,14 +48,17 @@ struct PixelSum {
 
 // Textured triangles' texture planes kept from one band to the next when the arena has room
 // (tiler_plan_bytes; frames of several bands, scenes with texels): a piece the band edges cut is
-// drawn in every band it reaches, and its planes (the cross products and the small-triangle box,
-// about 650 instructions) are the same in each. Direct-mapped by triangle id: a triangle whose set
-// another took is made again, as without the cache (the same planes, the same images). On 64-bit
-// hosts only (as the band plan's extras): a board has neither the RAM to spare nor the flash.
+// drawn in every band it reaches, and a split triangle's pieces each draw it, and its planes (the
+// cross products and the small-triangle box, about 450 instructions) are the same each time.
+// Direct-mapped by triangle id, 256 sets of the planes as made (without their caches: 128 bytes, 32
+// KB), given only to the triangles that may be drawn again (BandWriter::may_draw_again): a
+// triangle whose set another took is made again, as without the cache (the same planes, the same
+// images). On 64-bit hosts only (as the band plan's extras): a board has neither the RAM to spare
+// nor the flash.
 class PlaneCache {
  public:
   static constexpr bool kActive = sizeof(void*) >= 8;
-  static constexpr uint32_t kSets = 64;
+  static constexpr uint32_t kSets = 256;
   static size_t bytes(const Scene& scene, int bands) {
     return !kActive || bands < 2 || scene.texture_texels_count == 0 ? 0
                                                                    : arena_worst_case(sizeof(Set) * kSets, alignof(Set));
@@ -64,26 +68,41 @@ class PlaneCache {
     sets_ = arena.allocate_array<Set>(kSets);
     for (uint32_t i = 0; sets_ && i < kSets; ++i) sets_[i].triangle = kNone;
   }
-  // Triangle `triangle`'s planes as made (nothing cached in them yet), or null.
-  const TexturePlanes* find(uint32_t triangle) const {
-    if (!kActive || !sets_) return nullptr;
+  // Triangle `triangle`'s planes as made (nothing cached in them yet) into *planes; false when not kept.
+  bool find(uint32_t triangle, TexturePlanes* planes) const {
+    if (!kActive || !sets_) return false;
     const Set& set = sets_[triangle & (kSets - 1)];
-    return set.triangle == triangle ? &set.planes : nullptr;
+    if (set.triangle != triangle) return false;
+    memcpy(static_cast<void*>(planes), set.made, sizeof set.made);
+    planes->rows = nullptr;  // nothing cached yet, as make_texture_planes leaves them
+    planes->row_mask = 0;
+    planes->one.y = -1;
+    planes->piece.y = -1;
+    return true;
   }
   void keep(uint32_t triangle, const TexturePlanes& planes) {
     if (!kActive || !sets_) return;
     Set& set = sets_[triangle & (kSets - 1)];
     set.triangle = triangle;
-    set.planes = planes;
+    memcpy(set.made, static_cast<const void*>(&planes), sizeof set.made);
   }
 
  private:
+  // TexturePlanes' fields make_texture_planes gives (a, b, k .. whole_denom), the caches after them.
+  static constexpr size_t kMade = offsetof(TexturePlanes, rows);
   struct Set {
+    alignas(8) unsigned char made[kMade];
     uint32_t triangle;
-    TexturePlanes planes;
   };
+  static_assert(sizeof(Set) <= 128, "a set in 128 bytes");
   Set* sets_ = nullptr;
 };
+
+// The BandWriter's texture fast paths of 64-bit hosts (#if UINTPTR_MAX > 0xFFFFFFFFu: the boards keep
+// their flash and stack for other code): a small triangle's 8x8 block sampled straight from its mask
+// and written into the band (write_textured_mask; the boards make a list of runs, texture_runs, and
+// put them row by row), a piece's texture looked up once a batch (BatchTextures), and the kept
+// planes given only to triangles that may be drawn again (may_draw_again).
 
 // Turns newly covered sample blocks (band-local rows) into band-buffer writes of the current piece's
 // colours. Colours are computed on the first write, so hidden pieces cost no shading.
@@ -103,6 +122,9 @@ class BandWriter : public CoverageWriter {
   void use_filter(SampleFilter* filter) { cosine_ = filter; }
   void begin_band(int top, int rows) {
     top_ = top;
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    band_end_ = top + rows;
+#endif
     if (factor_ > 1 && !cosine_)
       for (size_t i = 0; i < size_t(rows) * size_t(width_); ++i) sums_[i] = PixelSum{0, 0, 0, 0};
   }
@@ -111,6 +133,9 @@ class BandWriter : public CoverageWriter {
   void begin_piece(const Scene* scene, const Light* light, ShadingMode mode, uint32_t triangle,
                    bool front_facing, const ViewTriangle* whole_view = nullptr) {
     whole_view_ = whole_view;
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    split_ = whole_view == nullptr;
+#endif
     scene_ = scene;
     light_ = light;
     mode_ = mode;
@@ -118,7 +143,11 @@ class BandWriter : public CoverageWriter {
     front_facing_ = front_facing;
     shaded_ = false;
     wrote_piece_ = false;
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    texture_ = pager_ ? batch_textures_.of_triangle(*scene, triangle) : kNone;
+#else
     texture_ = pager_ ? triangle_texture(*scene, triangle) : kNone;
+#endif
     texture_ready_ = false;
     lut_ = nullptr;
   }
@@ -280,18 +309,31 @@ class BandWriter : public CoverageWriter {
   }
   TexturePlanes& texture_planes() { return texture_ready_ ? texture_planes_ : make_texture_planes(); }
   [[gnu::noinline]] TexturePlanes& make_texture_planes() {  // once a piece, off the per-block paths
-    if (const TexturePlanes* kept = plane_cache_->find(triangle_)) {  // made in an earlier band
-      texture_planes_ = *kept;
+    if (plane_cache_->find(triangle_, &texture_planes_)) {  // made for an earlier piece or band
       ++stats_->texture_planes_reused;
     } else {
       triangle_texture_planes(*scene_, *view_, triangle_, texture_, 1, kSubpixelHalf, kSubpixelHalf,
                               &texture_planes_, whole_view_);
-      plane_cache_->keep(triangle_, texture_planes_);
+      if (may_draw_again()) plane_cache_->keep(triangle_, texture_planes_);
     }
     // A small triangle's samples are divided one by one: no segments to keep (planes' rows stay null).
     if (!texture_planes_.exact) use_segment_rows(&texture_planes_, segment_rows_, kSegmentRowBits);
     texture_ready_ = true;
     return texture_planes_;
+  }
+
+  // Whether the piece's triangle may be drawn again, so that its planes are worth keeping (PlaneCache,
+  // 64-bit hosts): a split piece's triangle has other pieces; a whole one, unless its view is
+  // unclipped and its vertices end above the band's last row (the cache keeps its sets for the
+  // triangles that reach a later band).
+  bool may_draw_again() const {
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    if (split_ || !whole_view_ || !whole_view_->unclipped) return true;
+    const int64_t bottom = max_of(whole_view_->oy[0], max_of(whole_view_->oy[1], whole_view_->oy[2]));
+    return view_->center_y + bottom >= int64_t(band_end_ - 1) * kSubpixelOne;
+#else
+    return true;
+#endif
   }
 
   // The piece's texel table for `samples` samples of its texture's `bytes`, looked up once for its
@@ -322,6 +364,9 @@ class BandWriter : public CoverageWriter {
     const uint64_t n = uint64_t(bit_count64(mask));
     stats_->pixel_writes += n;
     stats_->shading_calls += n;
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    return write_textured_mask(planes, bytes, mask, x, y);
+#else
     lookup_lut(bytes, uint32_t(n), true);
     static_assert(kRowPixels >= 64, "a block's colours fit the row buffer");
     SampleRun runs[32];  // at most 4 runs a row of 8
@@ -343,7 +388,40 @@ class BandWriter : public CoverageWriter {
       colours += runs[k].n;
     }
     return true;
+#endif
   }
+
+#if UINTPTR_MAX > 0xFFFFFFFFu
+  // write_textured_block on a 64-bit host: the samples straight from the mask (sample_block), into
+  // the band itself when it stores colours as they are, else into row_ at their bits and out as a mask
+  // (or run by run). A small piece takes its texture's white table, its lanes and the sampler's loop
+  // for it whatever its colour, so they are looked up again only for another texture, or when the
+  // pager would do more than answer the same (a table made since, another texture's white table
+  // asked for); each piece sets its colour.
+  bool write_textured_mask(TexturePlanes& planes, const uint8_t* bytes, uint64_t mask, int x, int y) {
+    if (texture_ != blocks_texture_ || bytes != blocks_.bytes || pager_->lut_generation() != blocks_generation_ ||
+        !pager_->white_lut_ready(texture_)) {
+      const Pixel* white = pager_->white_lut(texture_, bytes);
+      blocks_ = texture_sampling(planes, scene_->texture_texels[texture_], bytes, white, 0xFFFFFF, colors_.flat,
+                                 pager_->lanes_for(texture_, white, 0xFFFFFF, colors_.flat, true));
+      blocks_texture_ = texture_;
+      blocks_generation_ = pager_->lut_generation();
+    }
+    blocks_.colour = colors_.flat;
+    static_assert(kRowPixels >= 64, "a block's colours fit the row buffer");
+    uint32_t stride = 8;
+    Pixel* band = out_.pixels_at(x, y, &stride);
+    sample_block(blocks_, mask, x, y, band ? band : row_, band ? stride : 8);
+    if (band || out_.put_mask(mask, x, y, row_)) return true;
+    for (uint64_t m = mask; m != 0;) {  // row_[8 r + c] holds pixel (x + c, y + r)
+      const int at = __builtin_ctzll(m), start = at & 7;
+      const int run = __builtin_ctz(~(uint32_t(m >> at) & (0xFFu >> start)));
+      out_.put_row(x + start, y + (at >> 3), row_ + at, run);
+      m &= ~(((uint64_t(1) << run) - 1) << at);
+    }
+    return true;
+  }
+#endif
 
   // A block of a textured piece: flat colours a few rows at a time (texture/sampler.h texture_rows),
   // smooth ones pixel by pixel.
@@ -450,6 +528,14 @@ class BandWriter : public CoverageWriter {
   const Pixel* lut_ = nullptr;  // the piece's texel table (null: not looked up yet), its colour and generation
   Pixel lut_colour_ = 0;
   uint32_t lut_generation_ = 0;
+#if UINTPTR_MAX > 0xFFFFFFFFu  // the fast paths' state
+  int band_end_ = 0;    // the band's end (pixel rows, may_draw_again)
+  bool split_ = false;  // the piece is a BSP split part (begin_piece without the whole view)
+  BatchTextures batch_textures_;  // the pieces' textures
+  // Small pieces' blocks' sampling (write_textured_mask): for this texture, at this table generation.
+  TextureSampling blocks_{};
+  uint32_t blocks_texture_ = kNone, blocks_generation_ = 0;
+#endif
 };
 
 // A BSP piece cut from a triangle has split vertices quantized like any vertex, so its outer edges
@@ -800,25 +886,6 @@ Status check_options(const Camera& camera, const RenderOptions& options) {
     return error(StatusCode::InvalidArgument, "work image must match the screen size");
   return BandOutput::check(options.output);
 }
-
-// triangle_texture by a triangle's batch, the last batch's answer kept: a mesh's triangles come batch
-// by batch, so the material is looked up about once a batch.
-class BatchTextures {
- public:
-  explicit BatchTextures(const Scene& scene) : scene_(scene) {}
-  uint32_t of(uint32_t batch) {
-    if (batch != batch_) {
-      batch_ = batch;
-      const Material& m = scene_.materials[scene_.batches[batch].material];
-      texture_ = material_texels(scene_, m) ? m.texture : kNone;
-    }
-    return texture_;
-  }
-
- private:
-  const Scene& scene_;
-  uint32_t batch_ = kNone, texture_ = kNone;
-};
 
 // When each texture is needed next in the tiler's order of work: bands top to bottom, each walking
 // the BSP front to back — the same walk in every band, so pieces are numbered once. Planned before
@@ -1274,10 +1341,10 @@ int TilerFrame::rows_at_once(size_t spare) const {
 
 void TilerFrame::plan_textures() {
   if (!pager_.active()) return;
-  BatchTextures textures(scene_);
+  BatchTextures textures;
   for (uint32_t id = 0; id < scene_.triangle_count; ++id) {
     const Triangle tri = triangle_at(scene_, id);
-    const uint32_t texture = kVertexCache ? textures.of(tri.batch) : triangle_texture(scene_, id);  // (boards: flash)
+    const uint32_t texture = kVertexCache ? textures.of(scene_, tri.batch) : triangle_texture(scene_, id);  // boards: flash
     if (texture == kNone) continue;
     Vec3i world[3];
     vertices_world(scene_, tri.batch, tri.v, world);
@@ -1299,7 +1366,7 @@ void TilerFrame::plan_textures() {
   uint32_t found = 0;
   walk_pieces<false>([&](uint32_t p, uint32_t k) {
     const uint32_t triangle = bsp_piece(scene_, p).triangle;
-    const uint32_t texture = kVertexCache ? textures.of(triangle_at(scene_, triangle).batch) : triangle_texture(scene_, triangle);
+    const uint32_t texture = kVertexCache ? textures.of_triangle(scene_, triangle) : triangle_texture(scene_, triangle);
     if (texture != kNone && texture_plan_.piece(texture, k)) ++found;
     return !kVertexCache || found < count;
   });
@@ -1307,7 +1374,7 @@ void TilerFrame::plan_textures() {
     found = 0;
     texture_plan_.forget_last_pieces();
     walk_pieces<true>([&](uint32_t p, uint32_t k) {
-      const uint32_t texture = textures.of(triangle_at(scene_, bsp_piece(scene_, p).triangle).batch);
+      const uint32_t texture = textures.of_triangle(scene_, bsp_piece(scene_, p).triangle);
       if (texture != kNone && texture_plan_.last_piece(texture, k)) ++found;
       return found < count;
     });
