@@ -109,12 +109,37 @@ std::vector<std::string> split_lines(const std::string& text) {
   return lines;
 }
 
+// What decode_image is given besides the image: the pixels the file's images may still decode to, and
+// the model being loaded (its buffers and buffer views are read before its images).
+struct ImageLoad {
+  uint64_t budget;
+  const tinygltf::Model* model;
+};
+
+// Whether an image stored in a buffer view lies inside its buffer: tinygltf hands the loader the view's
+// bytes without checking its offset and length against the buffer.
+bool view_inside_buffer(const tinygltf::Model& model, const tinygltf::Image& image, const unsigned char* bytes,
+                        int size) {
+  if (image.bufferView < 0) return true;  // a data: or file URI, decoded by tinygltf into its own bytes
+  if (size_t(image.bufferView) >= model.bufferViews.size()) return false;
+  const tinygltf::BufferView& view = model.bufferViews[size_t(image.bufferView)];
+  if (view.buffer < 0 || size_t(view.buffer) >= model.buffers.size()) return false;
+  const std::vector<unsigned char>& data = model.buffers[size_t(view.buffer)].data;
+  return view.byteOffset <= data.size() && view.byteLength <= data.size() - view.byteOffset &&
+         uint64_t(size) == view.byteLength && bytes == data.data() + view.byteOffset;
+}
+
 // Decodes an image (PNG, JPEG, ... through stb_image) to RGBA8, after checking its size in the header.
 // An image that cannot be decoded is left empty with a warning: its textures draw the material colour.
 bool decode_image(tinygltf::Image* image, const int index, std::string*, std::string* warn, int, int,
                   const unsigned char* bytes, int size, void* user) {
-  uint64_t& budget = *static_cast<uint64_t*>(user);  // pixels the file's images may still decode to
+  ImageLoad& load = *static_cast<ImageLoad*>(user);
+  uint64_t& budget = load.budget;
   const std::string which = "image " + std::to_string(index);
+  if (!view_inside_buffer(*load.model, *image, bytes, size)) {
+    if (warn) *warn += which + ": its buffer view reaches past its buffer, texture ignored\n";
+    return true;
+  }
   int w = 0, h = 0, comp = 0;
   if (size <= 0 || !stbi_info_from_memory(bytes, size, &w, &h, &comp)) {
     if (warn) *warn += which + ": not a decodable image, texture ignored\n";
@@ -840,8 +865,9 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
       return false;
     }
     tinygltf::TinyGLTF loader;
-    uint64_t image_budget = kMaxImagePixels;
-    loader.SetImageLoader(&decode_image, &image_budget);
+    tinygltf::Model model;
+    ImageLoad image_load{kMaxImagePixels, &model};
+    loader.SetImageLoader(&decode_image, &image_load);
     tinygltf::FsCallbacks fs{};
     fs.ExpandFilePath = &tinygltf::ExpandFilePath;
     fs.WriteWholeFile = &no_file_write;
@@ -853,7 +879,6 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
       fs.ReadWholeFile = &read_external_file;
     }
     loader.SetFsCallbacks(fs);
-    tinygltf::Model model;
     std::string err, warn;
     bool ok;
     if (binary) {
