@@ -51,6 +51,10 @@ bool emit_mask(uint64_t m, int x0, int y0, int q, CoverageWriter& writer) {
   return true;
 }
 
+// RowSpans::rows (the bounds stepped in registers) on 64-bit hosts only: on a Cortex-M0+ the second
+// copy of the row loop is 664 bytes of flash it does not have.
+constexpr bool kRowsInRegisters = UINTPTR_MAX > 0xFFFFFFFFu;
+
 // A small polygon's coverage, row by row (HierTiler::tile_small, HierTiler::block_samples). For one
 // edge crossing the box, the samples of box row j inside it are the columns col with E_j + A col >= 0,
 // E_j = E_0 + B j (E at the row's first sample centre, A and B the steps between samples): from
@@ -60,9 +64,6 @@ bool emit_mask(uint64_t m, int x0, int y0, int q, CoverageWriter& writer) {
 // DDA: two 32-bit divisions an edge, then adds), so each sample gets exactly E >= 0 at its centre,
 // the descent's coverage. The caller keeps every edge value and both steps below 2^30 (rows_fit), so
 // a row's value and remainder sums stay below 2^31.
-// RowSpans::rows (the bounds stepped in registers) on 64-bit hosts only: on a Cortex-M0+ the second
-// copy of the row loop is 664 bytes of flash it does not have.
-constexpr bool kRowsInRegisters = UINTPTR_MAX > 0xFFFFFFFFu;
 class RowSpans {
  public:
   void clear() { lower_n_ = upper_n_ = level_n_ = 0; }
@@ -134,8 +135,10 @@ class RowSpans {
   template <int kLower, int kUpper, class Emit>
   void rows_of(int count, int32_t last_column, Emit emit) {
     const Bound none{1, int32_t(1) << 30, 0, 0, 0};
-    Bound l0 = lower_n_ > 0 ? lower_[0] : none, l1 = kLower >= 2 ? lower_[1] : none, l2 = kLower == 3 ? lower_[2] : none;
-    Bound u0 = upper_n_ > 0 ? upper_[0] : none, u1 = kUpper >= 2 ? upper_[1] : none, u2 = kUpper == 3 ? upper_[2] : none;
+    Bound l0 = lower_n_ > 0 ? lower_[0] : none, l1 = kLower >= 2 ? lower_[1] : none;
+    Bound l2 = kLower == 3 ? lower_[2] : none;
+    Bound u0 = upper_n_ > 0 ? upper_[0] : none, u1 = kUpper >= 2 ? upper_[1] : none;
+    Bound u2 = kUpper == 3 ? upper_[2] : none;
     for (int y = 0; y < count; ++y) {
       int32_t first = max_of(int32_t(0), -l0.q), last = min_of(last_column, u0.q);
       l0.next_row();
@@ -767,9 +770,10 @@ TileResult HierTiler::tile(const ConvexPoly& poly, CoverageWriter& writer) {
   if (jitter_f_ == 0 && w < WideGrid::kSamples && h < WideGrid::kSamples) {
     TileResult small;
     const bool one_block = kOneBlockPath && (poly.min_x ^ poly.max_x) < 8 && (poly.min_y ^ poly.max_y) < 8;
+    const bool narrow = w < SmallGrid::kSamples && h < SmallGrid::kSamples;
     const bool tiled = one_block ? tile_in_block(poly, writer, &small)
-                       : w < SmallGrid::kSamples && h < SmallGrid::kSamples ? tile_small<SmallGrid>(poly, writer, &small)
-                                                                            : tile_small<WideGrid>(poly, writer, &small);
+                       : narrow  ? tile_small<SmallGrid>(poly, writer, &small)
+                                 : tile_small<WideGrid>(poly, writer, &small);
     if (tiled) return small;
   }
   int level, mx, my;

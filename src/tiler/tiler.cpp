@@ -1344,7 +1344,8 @@ void TilerFrame::plan_textures() {
   BatchTextures textures;
   for (uint32_t id = 0; id < scene_.triangle_count; ++id) {
     const Triangle tri = triangle_at(scene_, id);
-    const uint32_t texture = kVertexCache ? textures.of(scene_, tri.batch) : triangle_texture(scene_, id);  // boards: flash
+    // The boards look the texture up a triangle at a time (their flash).
+    const uint32_t texture = kVertexCache ? textures.of(scene_, tri.batch) : triangle_texture(scene_, id);
     if (texture == kNone) continue;
     Vec3i world[3];
     vertices_world(scene_, tri.batch, tri.v, world);
