@@ -129,6 +129,23 @@ bool view_inside_buffer(const tinygltf::Model& model, const tinygltf::Image& ima
          uint64_t(size) == view.byteLength && bytes == data.data() + view.byteOffset;
 }
 
+// Whether every chunk of a PNG fits in the bytes given (true for anything that is not a PNG): stb_image
+// grows its buffer to a chunk's stated length before it reads the chunk, so a short file stating a
+// gigabyte would make it allocate a gigabyte. A chunk is length (4 bytes, big-endian), type (4), data,
+// CRC (4).
+bool png_chunks_fit(const unsigned char* bytes, size_t size) {
+  static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+  if (size < 8 || memcmp(bytes, kSignature, 8) != 0) return true;
+  for (size_t at = 8; size - at >= 12;) {
+    const uint64_t length = uint64_t(bytes[at]) << 24 | uint64_t(bytes[at + 1]) << 16 | uint64_t(bytes[at + 2]) << 8 |
+                            uint64_t(bytes[at + 3]);
+    if (length > size - at - 12) return false;
+    if (memcmp(bytes + at + 4, "IEND", 4) == 0) return true;
+    at += 12 + size_t(length);
+  }
+  return true;
+}
+
 // Decodes an image (PNG, JPEG, ... through stb_image) to RGBA8, after checking its size in the header.
 // An image that cannot be decoded is left empty with a warning: its textures draw the material colour.
 bool decode_image(tinygltf::Image* image, const int index, std::string*, std::string* warn, int, int,
@@ -138,6 +155,10 @@ bool decode_image(tinygltf::Image* image, const int index, std::string*, std::st
   const std::string which = "image " + std::to_string(index);
   if (!view_inside_buffer(*load.model, *image, bytes, size)) {
     if (warn) *warn += which + ": its buffer view reaches past its buffer, texture ignored\n";
+    return true;
+  }
+  if (size > 0 && !png_chunks_fit(bytes, size_t(size))) {
+    if (warn) *warn += which + ": a PNG chunk runs past the end of the image, texture ignored\n";
     return true;
   }
   int w = 0, h = 0, comp = 0;
