@@ -592,30 +592,29 @@ ML_RUN_HELPER void each_of_runs(Runs& runs, const TexturePlanes& p, ExactSteps& 
     for (int32_t i = 0; i < run.n; ++i) steps.next(uv), sample(uv, out++);
   }
 }
-struct RowRuns {  // rows y .. end - 1 of samples x .. x + n - 1
+// place and each of runs whose colours go one after another from out (RowRuns, ListRuns).
+template <typename Runs>
+struct InOrderRuns {
+  Pixel* place(const SampleRun& run, Pixel** out) const { return (*out += run.n) - run.n; }
+  template <typename Sample>
+  ML_RUN_HELPER void each(const TexturePlanes& p, ExactSteps& steps, Pixel* out, Sample sample) {
+    each_of_runs(static_cast<Runs&>(*this), p, steps, out, sample);
+  }
+};
+struct RowRuns : InOrderRuns<RowRuns> {  // rows y .. end - 1 of samples x .. x + n - 1
   int32_t x, y, n, end;
   bool next(SampleRun* run) {
     if (y == end) return false;
     *run = SampleRun{x, y++, n};
     return true;
   }
-  Pixel* place(const SampleRun& run, Pixel** out) const { return (*out += run.n) - run.n; }
-  template <typename Sample>
-  ML_RUN_HELPER void each(const TexturePlanes& p, ExactSteps& steps, Pixel* out, Sample sample) {
-    each_of_runs(*this, p, steps, out, sample);
-  }
 };
-struct ListRuns {
+struct ListRuns : InOrderRuns<ListRuns> {
   const SampleRun *at, *end;
   bool next(SampleRun* run) {
     if (at == end) return false;
     *run = *at++;
     return true;
-  }
-  Pixel* place(const SampleRun& run, Pixel** out) const { return (*out += run.n) - run.n; }
-  template <typename Sample>
-  ML_RUN_HELPER void each(const TexturePlanes& p, ExactSteps& steps, Pixel* out, Sample sample) {
-    each_of_runs(*this, p, steps, out, sample);
   }
 };
 // The set bits of an 8x8 mask (bit 8 r + c: sample (x + c, y + r)), a run of a row's adjacent bits at
@@ -711,12 +710,12 @@ ML_RUN_HELPER void exact_runs(TexturePlanes& p, const TextureTexels& t, const ui
 template <TexelFormat F>
 [[gnu::noinline]] void exact_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                 Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out) {
-  exact_runs<F>(p, t, bytes, lut, lut_colour, colour, RowRuns{x, y, n, y + rows}, out);
+  exact_runs<F>(p, t, bytes, lut, lut_colour, colour, RowRuns{{}, x, y, n, y + rows}, out);
 }
 template <TexelFormat F>  // one row: no loop over rows around its samples
 [[gnu::noinline]] void exact_row(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                 Pixel colour, int32_t x, int32_t y, int32_t n, Pixel* out) {
-  exact_runs<F>(p, t, bytes, lut, lut_colour, colour, RowRuns{x, y, n, y + 1}, out);
+  exact_runs<F>(p, t, bytes, lut, lut_colour, colour, RowRuns{{}, x, y, n, y + 1}, out);
 }
 template <TexelFormat F, typename Runs>  // texture_runs' list (ListRuns), sample_block's mask (MaskRuns)
 [[gnu::noinline]] void exact_list(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
@@ -738,12 +737,12 @@ ML_RUN_HELPER void exact_lanes_runs(TexturePlanes& p, const TextureTexels& t, co
 template <TexelFormat F>
 [[gnu::noinline]] void exact_lanes_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const uint64_t* lanes,
                                         Pixel colour, int32_t x, int32_t y, int32_t n, int32_t rows, Pixel* out) {
-  exact_lanes_runs<F>(p, t, bytes, lanes, colour, RowRuns{x, y, n, y + rows}, out);
+  exact_lanes_runs<F>(p, t, bytes, lanes, colour, RowRuns{{}, x, y, n, y + rows}, out);
 }
 template <TexelFormat F>
 [[gnu::noinline]] void exact_lanes_row(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const uint64_t* lanes,
                                        Pixel colour, int32_t x, int32_t y, int32_t n, Pixel* out) {
-  exact_lanes_runs<F>(p, t, bytes, lanes, colour, RowRuns{x, y, n, y + 1}, out);
+  exact_lanes_runs<F>(p, t, bytes, lanes, colour, RowRuns{{}, x, y, n, y + 1}, out);
 }
 template <TexelFormat F, typename Runs>
 [[gnu::noinline]] void exact_lanes_list(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const uint64_t* lanes,
@@ -929,7 +928,7 @@ void runs_of(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, con
 
 void texture_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                   Pixel colour, const SampleRun* runs, int32_t count, Pixel* out, const uint64_t* lanes) {
-  runs_of(p, t, bytes, lut, lut_colour, colour, ListRuns{runs, runs + count}, out, lanes);
+  runs_of(p, t, bytes, lut, lut_colour, colour, ListRuns{{}, runs, runs + count}, out, lanes);
 }
 
 namespace {
@@ -946,11 +945,11 @@ void table_block(const TextureSampling& s, uint64_t mask, int32_t x, int32_t y, 
 }
 template <TexelFormat F>
 void lanes_row(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out) {
-  exact_lanes_runs<F>(*s.planes, *s.texture, s.bytes, s.lanes, s.colour, RowRuns{x, y, n, y + 1}, out);
+  exact_lanes_runs<F>(*s.planes, *s.texture, s.bytes, s.lanes, s.colour, RowRuns{{}, x, y, n, y + 1}, out);
 }
 template <TexelFormat F>
 void table_row(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out) {
-  exact_runs<F>(*s.planes, *s.texture, s.bytes, s.lut, s.lut_colour, s.colour, RowRuns{x, y, n, y + 1}, out);
+  exact_runs<F>(*s.planes, *s.texture, s.bytes, s.lut, s.lut_colour, s.colour, RowRuns{{}, x, y, n, y + 1}, out);
 }
 template <TexelFormat F>
 void exact_sampling(TextureSampling* s, bool in_lanes) {
