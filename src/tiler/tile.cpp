@@ -759,6 +759,17 @@ bool HierTiler::tile_in_block(const ConvexPoly& poly, CoverageWriter& writer, Ti
   return true;
 }
 
+inline void HierTiler::edges_at_cell(const ConvexPoly& poly, int level, int mx, int my, Edges* out) const {
+  const int s = pyr_->layout.shift(level);
+  const int64_t x0 = int64_t(mx) * pitch_ << s, y0 = int64_t(my) * pitch_ << s;
+  out->n = poly.n;
+  for (int i = 0; i < poly.n; ++i) {
+    out->a[i] = poly.edge[i].a;
+    out->b[i] = poly.edge[i].b;
+    out->e[i] = poly.edge[i].at(x0, y0);
+  }
+}
+
 TileResult HierTiler::tile(const ConvexPoly& poly, CoverageWriter& writer) {
   if (kWitness) forget_witness();  // tiling covers samples (start_cell may find another below)
   bx0_ = poly.min_x;
@@ -779,19 +790,13 @@ TileResult HierTiler::tile(const ConvexPoly& poly, CoverageWriter& writer) {
   int level, mx, my;
   if (!start_cell(poly, &level, &mx, &my)) return TileResult::Hidden;
   if (kWitness) forget_witness();
-  const int s = pyr_->layout.shift(level);
-  const int64_t x0 = int64_t(mx) * pitch_ << s, y0 = int64_t(my) * pitch_ << s;
   Edges edges;
-  edges.n = poly.n;
-  for (int i = 0; i < poly.n; ++i) {
-    edges.a[i] = poly.edge[i].a;
-    edges.b[i] = poly.edge[i].b;
-    edges.e[i] = poly.edge[i].at(x0, y0);
-  }
+  edges_at_cell(poly, level, mx, my, &edges);
   const bool ok = tile_cell(level, mx, my, edges, writer);
   propagate_up(level, mx, my);
   return ok ? TileResult::Tiled : TileResult::Failed;
 }
+
 
 bool HierTiler::box_visible(const ConvexPoly& poly) {
   // The witness inside the box: visible. Most subtree tests are of a node's near child, with nothing
@@ -812,15 +817,8 @@ bool HierTiler::visible(const ConvexPoly& poly) {
   by1_ = poly.max_y;
   int level, mx, my;
   if (!start_cell(poly, &level, &mx, &my)) return false;
-  const int s = pyr_->layout.shift(level);
-  const int64_t x0 = int64_t(mx) * pitch_ << s, y0 = int64_t(my) * pitch_ << s;
   Edges edges;
-  edges.n = poly.n;
-  for (int i = 0; i < poly.n; ++i) {
-    edges.a[i] = poly.edge[i].a;
-    edges.b[i] = poly.edge[i].b;
-    edges.e[i] = poly.edge[i].at(x0, y0);
-  }
+  edges_at_cell(poly, level, mx, my, &edges);
   return query_cell(level, mx, my, edges);
 }
 

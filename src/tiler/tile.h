@@ -206,6 +206,8 @@ class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)> {
       for (int i = 0; i < n; ++i) e[i] = cell.e[i] + cell.a[i] * (q * col) + cell.b[i] * (q * row);
     }
   };
+  // The polygon's edges at the top-left corner of cell (mx, my) of `level` (start_cell's answer).
+  void edges_at_cell(const ConvexPoly& poly, int level, int mx, int my, Edges* out) const;
   static bool edges_mask(const Edges& in, int64_t side, Edges* crossing, uint64_t* pc, uint64_t* pv);
   bool poly_mask(int level, const Edges& in, Edges* crossing, uint64_t* pc, uint64_t* pv) const;
   uint64_t exact_samples(const Edges& edges, uint64_t todo, int bx, int by) const;
