@@ -47,4 +47,19 @@ TEST(CliModels, EveryAssimpGltfRendersOrFailsWithOneLine) {
   RecordProperty("rejected", rejected);
 }
 
+// A model whose primitives are all points or lines has no triangles: the one line says why (the
+// compiler's warning about the skipped primitives), not just that.
+TEST(CliModels, ANoTrianglesRefusalNamesTheSkippedPrimitives) {
+  const std::string points =
+      std::string(testfiles::kAssimpGltf2Models) + "/glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_00.gltf";
+  if (!clitest::file_exists(points)) GTEST_SKIP() << "assimp-testmodels not installed";
+  const std::string dir = clitest::make_temp_dir();
+  const clitest::RunResult r = clitest::run_cli({"render", points, "-o", dir + "/out.png"});
+  clitest::remove_tree(dir);
+  EXPECT_EQ(r.exit_code, 1) << r.describe();
+  ASSERT_EQ(r.err_lines().size(), 1u) << r.describe();
+  EXPECT_NE(r.err_lines()[0].find("scene has no triangles"), std::string::npos) << r.describe();
+  EXPECT_NE(r.err_lines()[0].find("mode POINTS skipped"), std::string::npos) << r.describe();
+}
+
 }  // namespace
