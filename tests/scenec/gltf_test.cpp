@@ -488,6 +488,49 @@ TEST(SceneGltf, HostileGraphsAndAccessors) {
   }
 }
 
+// Attributes a primitive can be drawn without are left out when their element type is wrong, with a
+// warning, instead of refusing the model; a TEXCOORD_0 of three components (UVW, as assimp's glTF
+// exporter writes a model with UVW channels) keeps its first two. POSITION's type is still checked
+// (HostileGraphsAndAccessors, "wrong type").
+TEST(SceneGltf, OptionalAttributesOfAnotherTypeAreLeftOutOrTrimmed) {
+  const std::vector<float> position = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const std::vector<float> uvw = {0.25f, 0.5f, 9, 1, 0.75f, 9, 0.5f, 1.5f, 9};
+  const std::vector<float> normal2 = {0, 1, 0, 1, 0, 1};  // VEC2: not a normal
+  std::vector<uint8_t> bytes(4 * (position.size() + uvw.size() + normal2.size()));
+  std::memcpy(bytes.data(), position.data(), 36);
+  std::memcpy(bytes.data() + 36, uvw.data(), 36);
+  std::memcpy(bytes.data() + 72, normal2.data(), 24);
+  const std::string json =
+      "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":96,\"uri\":\"data:application/octet-stream;base64," +
+      base64(bytes) + "\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":36},{\"buffer\":0,\"byteOffset\":36,"
+      "\"byteLength\":36},{\"buffer\":0,\"byteOffset\":72,\"byteLength\":24}],\"accessors\":["
+      "{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
+      "{\"bufferView\":1,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
+      "{\"bufferView\":2,\"componentType\":5126,\"count\":3,\"type\":\"VEC2\"}],"
+      "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1,\"NORMAL\":2}}]}],"
+      "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}";
+  const CompileResult r = compile_gltf_memory(reinterpret_cast<const unsigned char*>(json.data()), json.size());
+  ASSERT_TRUE(r.ok) << r.error;
+  auto warned = [&](const std::string& text) {
+    return std::any_of(r.warnings.begin(), r.warnings.end(),
+                       [&](const std::string& w) { return w.find(text) != std::string::npos; });
+  };
+  EXPECT_TRUE(warned("TEXCOORD_0 has 3 components (UVW): the first two used"));
+  EXPECT_TRUE(warned("NORMAL has 2 component(s), not 3: normals ignored"));
+  Scene s;
+  ASSERT_TRUE(read_scene(r.blob.data(), r.blob.size, &s).ok());
+  ASSERT_EQ(s.triangle_count, 1u);
+  const Triangle& t = ml::triangle_at(s, 0);
+  for (int i = 0; i < 3; ++i) {
+    const std::array<int32_t, 2> uv = uv_of(s, t.v[i]);
+    // Vertex order may be kept or reversed by the compiler: find this vertex's row by its u.
+    bool found = false;
+    for (int k = 0; k < 3; ++k)
+      if (uv[0] == int32_t(uvw[3 * k] * 65536) && uv[1] == int32_t(uvw[3 * k + 1] * 65536)) found = true;
+    EXPECT_TRUE(found) << "vertex " << i << ": uv " << uv[0] << ", " << uv[1];
+  }
+}
+
 TEST(SceneGltf, ExponentialNodeSharingIsBounded) {
   // Each node lists the next one twice: 2^40 instances if expanded naively.
   std::string nodes;

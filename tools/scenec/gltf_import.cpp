@@ -599,6 +599,36 @@ class Importer {
     return true;
   }
 
+  // An attribute the primitive can be drawn without (NORMAL, TEXCOORD_0), read as read_accessor does,
+  // `components` per element. An element of another type leaves it out with a warning (*out empty)
+  // instead of refusing the model; a TEXCOORD_0 of three components (UVW, as assimp's glTF exporter
+  // writes them) keeps its first two. A bad index, bytes or values still refuse it. *used: read.
+  bool read_optional(int index, int components, const std::string& semantic, const std::string& where,
+                     const std::string& what, std::vector<double>* out, size_t* count_out, bool* used) {
+    out->clear();
+    *used = false;
+    if (index < 0 || size_t(index) >= model_.accessors.size())
+      return read_accessor(index, components, semantic, out, count_out);  // refused there (index out of range)
+    const int have = tinygltf::GetNumComponentsInType(uint32_t(model_.accessors[size_t(index)].type));
+    const bool uvw = semantic == "TEXCOORD_0" && have == 3;
+    if (have != components && !uvw) {
+      const std::string kind = have > 0 ? std::to_string(have) + " component(s)" : "an unknown element type";
+      warn(where + ": " + semantic + " has " + kind + ", not " + std::to_string(components) + ": " + what + " ignored");
+      return true;
+    }
+    if (!read_accessor(index, have, semantic, out, count_out)) return false;
+    *used = true;
+    if (uvw) {
+      for (size_t i = 0; i < *count_out; ++i) {
+        (*out)[2 * i] = (*out)[3 * i];
+        (*out)[2 * i + 1] = (*out)[3 * i + 1];
+      }
+      out->resize(2 * *count_out);
+      warn(where + ": TEXCOORD_0 has 3 components (UVW): the first two used");
+    }
+    return true;
+  }
+
   // Reads accessor `index` as doubles, `components` per element. Checks everything first.
   bool read_accessor(int index, int components, const std::string& semantic, std::vector<double>* out,
                      size_t* count_out) {
@@ -762,16 +792,19 @@ class Importer {
       if (!read_accessor(pos_it->second, 3, "POSITION", &pos, &count)) return false;
       const auto n_it = prim.attributes.find("NORMAL");
       if (n_it != prim.attributes.end()) {
-        if (!read_accessor(n_it->second, 3, "NORMAL", &nrm, &ncount)) return false;
-        if (ncount != count) {
+        bool used = false;
+        if (!read_optional(n_it->second, 3, "NORMAL", where, "normals", &nrm, &ncount, &used)) return false;
+        if (used && ncount != count) {
           warn(where + ": NORMAL count differs from POSITION count, normals ignored");
           nrm.clear();
         }
       }
       const auto uv_it = prim.attributes.find("TEXCOORD_0");
       if (uv_it != prim.attributes.end()) {
-        if (!read_accessor(uv_it->second, 2, "TEXCOORD_0", &uv, &uvcount)) return false;
-        if (uvcount != count) {
+        bool used = false;
+        if (!read_optional(uv_it->second, 2, "TEXCOORD_0", where, "texture coordinates", &uv, &uvcount, &used))
+          return false;
+        if (used && uvcount != count) {
           warn(where + ": TEXCOORD_0 count differs from POSITION count, texture coordinates ignored");
           uv.clear();
         }
