@@ -531,6 +531,25 @@ TEST(SceneGltf, OptionalAttributesOfAnotherTypeAreLeftOutOrTrimmed) {
   }
 }
 
+// A refusal is one printable line even when the input's bytes are not UTF-8 (a model converted with
+// a Latin-1 material name, quoted by the JSON parser's message): such bytes are written \xNN, while
+// well-formed UTF-8 is kept.
+TEST(SceneGltf, ErrorLinesEscapeBytesThatAreNotUtf8) {
+  const std::string json = "{\"asset\":{\"version\":\"2.0\"},\"materials\":[{\"name\":\"Terraind\xE4k\"}],"
+                           "\"meshes\":[],\"scenes\":[{\"nodes\":[]}]}";
+  const CompileResult r = compile_gltf_memory(reinterpret_cast<const unsigned char*>(json.data()), json.size());
+  ASSERT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("\\xe4"), std::string::npos) << r.error;
+  for (unsigned char c : r.error) EXPECT_TRUE(c >= 0x20 && c < 0x7F) << r.error;
+  // Well-formed UTF-8 stays as it is (a warning quoting a material's alpha mode).
+  const std::string utf8 = "{\"asset\":{\"version\":\"2.0\"},\"materials\":[{\"alphaMode\":\"Bl\xC3\xA4nk\"}],"
+                           "\"meshes\":[],\"scenes\":[{\"nodes\":[]}]}";
+  const CompileResult named = compile_gltf_memory(reinterpret_cast<const unsigned char*>(utf8.data()), utf8.size());
+  EXPECT_TRUE(std::any_of(named.warnings.begin(), named.warnings.end(), [](const std::string& w) {
+    return w.find("'Bl\xC3\xA4nk'") != std::string::npos;
+  })) << (named.warnings.empty() ? "no warning" : named.warnings[0]);
+}
+
 TEST(SceneGltf, ExponentialNodeSharingIsBounded) {
   // Each node lists the next one twice: 2^40 instances if expanded naively.
   std::string nodes;

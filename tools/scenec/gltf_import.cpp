@@ -84,7 +84,42 @@ bool no_file_write(std::string* err, const std::string&, const std::vector<unsig
   return false;
 }
 
-// One line: newlines become "; ", trailing separators and blanks go.
+// The length of the well-formed UTF-8 sequence at text[i] (2 to 4 bytes; no overlong form, no
+// surrogate, at most U+10FFFF), or 0.
+size_t utf8_sequence(const std::string& text, size_t i) {
+  const unsigned char c = static_cast<unsigned char>(text[i]);
+  const size_t n = c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
+  if (n == 0 || i + n > text.size()) return 0;
+  const unsigned char c1 = static_cast<unsigned char>(text[i + 1]);
+  const unsigned char lo = c == 0xE0 ? 0xA0 : c == 0xF0 ? 0x90 : 0x80;
+  const unsigned char hi = c == 0xED ? 0x9F : c == 0xF4 ? 0x8F : 0xBF;
+  if (c1 < lo || c1 > hi) return 0;
+  for (size_t k = 2; k < n; ++k)
+    if ((static_cast<unsigned char>(text[i + k]) & 0xC0) != 0x80) return 0;
+  return n;
+}
+
+// Text fit for a terminal line: well-formed UTF-8 kept, any other byte below 0x20 (tab aside), 0x7F or
+// not part of a well-formed sequence written as \xNN (a parser's message quotes the bytes it choked
+// on; a model's names may be in another encoding).
+std::string printable(const std::string& text) {
+  std::string out;
+  for (size_t i = 0; i < text.size();) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    const size_t n = c >= 0x80 ? utf8_sequence(text, i) : (c >= 0x20 && c != 0x7F) || c == '\t' ? 1 : 0;
+    if (n == 0) {
+      static const char kHex[] = "0123456789abcdef";
+      out += {'\\', 'x', kHex[c >> 4], kHex[c & 15]};
+      ++i;
+      continue;
+    }
+    out.append(text, i, n);
+    i += n;
+  }
+  return out;
+}
+
+// One line: newlines become "; ", trailing separators and blanks go, the rest printable().
 std::string one_line(const std::string& text) {
   std::string out;
   for (char c : text) {
@@ -95,7 +130,7 @@ std::string one_line(const std::string& text) {
     }
   }
   while (!out.empty() && (out.back() == ' ' || out.back() == ';')) out.pop_back();
-  return out;
+  return printable(out);
 }
 
 std::vector<std::string> split_lines(const std::string& text) {
@@ -104,7 +139,7 @@ std::vector<std::string> split_lines(const std::string& text) {
   std::istringstream in(text);
   while (std::getline(in, line)) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (!line.empty()) lines.push_back(line);
+    if (!line.empty()) lines.push_back(printable(line));
   }
   return lines;
 }
@@ -373,7 +408,7 @@ class Importer {
   };
 
   void warn(const std::string& w) {
-    if (warnings_.size() < 100) warnings_.push_back(w);
+    if (warnings_.size() < 100) warnings_.push_back(printable(w));
   }
   bool fail(const std::string& e) {
     *error_ = e;
