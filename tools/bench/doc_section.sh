@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Writes one generated section of docs/benchmarks.md, replacing the lines between its markers
-# <!-- NAME:begin ... --> and <!-- NAME:end --> (both included in SECTION), or appending it under
-# HEADING when the file has none yet. Sourced by the bench scripts.
-# Usage: write_doc_section NAME HEADING SECTION
+# Writes one generated section of DOC (default docs/benchmarks.md), replacing the lines between its
+# markers <!-- NAME:begin ... --> and <!-- NAME:end --> (both included in SECTION), or appending it
+# under HEADING when the file has none yet. Sourced by the bench scripts.
+# Usage: write_doc_section NAME HEADING SECTION [DOC]
 write_doc_section() {
-  local name=$1 heading=$2 section=$3 doc=docs/benchmarks.md
+  local name=$1 heading=$2 section=$3 doc=${4:-docs/benchmarks.md}
   mkdir -p docs
   [ -f "$doc" ] || printf '# Benchmarks\n' >"$doc"
   if grep -q "<!-- $name:begin" "$doc"; then
