@@ -519,12 +519,9 @@ struct Renderer {
   TexturePlanes* tex_planes = nullptr;
   SlotLut* tex_lut = nullptr;
   static constexpr uint32_t kTexReady = 0x80000000u;
+  [[no_unique_address]] BatchTextures batch_textures;  // the activated triangles' textures (boards: empty)
 #if UINTPTR_MAX > 0xFFFFFFFFu
-  // Small triangles' spans' sampling (texture_run, 64-bit hosts): for this texture, at this table
-  // generation.
-  TextureSampling exact{};
-  uint32_t exact_texture = kNone, exact_generation = 0;
-  BatchTextures batch_textures;  // the activated triangles' textures
+  KeptSampling kept_sampling;  // small triangles' spans' sampling (texture_run, 64-bit hosts)
 #endif
 
   // per sample row (l > 1)
@@ -559,11 +556,7 @@ struct Renderer {
     }
     if (t.front_facing) flags |= kFront;
     if (tex_of) {
-#if UINTPTR_MAX > 0xFFFFFFFFu
       tex_of[slot] = batch_textures.of_triangle(*scene, id);
-#else
-      tex_of[slot] = triangle_texture(*scene, id);
-#endif
       tex_lut[slot] = SlotLut{nullptr, 0, 0, ~0u, 0};
       pager.add_user(tex_of[slot]);
       // The texture planes now, from the view transform at hand (planes_of would make it again).
@@ -703,21 +696,8 @@ struct Renderer {
     const Pixel c = a.color[0];
     TexturePlanes& planes = planes_of(slot, a.id);
     if (planes.exact) {
-#if UINTPTR_MAX > 0xFFFFFFFFu
-      // The white table, its lanes and the sampler's loop serve every small triangle of the texture
-      // whatever its colour: looked up again only for another texture, or when the pager would do
-      // more than answer the same (a table made since, another texture's white table asked for).
-      if (texture != exact_texture || bytes != exact.bytes || pager.lut_generation() != exact_generation ||
-          !pager.white_lut_ready(texture)) {
-        const Pixel* white = pager.white_lut(texture, bytes);
-        exact = texture_sampling(planes, scene->texture_texels[texture], bytes, white, 0xFFFFFF, c,
-                                 pager.lanes_for(texture, white, 0xFFFFFF, c, true));
-        exact_texture = texture;
-        exact_generation = pager.lut_generation();
-      }
-      exact.planes = &planes;
-      exact.colour = c;
-      sample_row(exact, x0, y, int32_t(n), out);
+#if UINTPTR_MAX > 0xFFFFFFFFu  // kept from small triangle to small triangle
+      sample_row(kept_sampling.for_texture(pager, *scene, texture, bytes, planes, c), x0, y, int32_t(n), out);
 #else
       const Pixel* white = pager.white_lut(texture, bytes);
       texture_row(planes, scene->texture_texels[texture], bytes, white, 0xFFFFFF, c, x0, y, int32_t(n), out,
@@ -1301,11 +1281,8 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
   stats->triangles_culled = for_each_piece(scene, s, [&](uint32_t ref, uint16_t y0, uint16_t y1) {
     if (n < cap) ys_space[n] = YSortEntry{ref, y0, y1};
     ++n;
-#if UINTPTR_MAX > 0xFFFFFFFFu  // §5: last row; ref: make_ref
+    // §5: last row; ref: make_ref
     if (r.pager.active()) r.pager.plan(r.batch_textures.of_triangle(scene, ref >> 4), y1);
-#else
-    if (r.pager.active()) r.pager.plan(triangle_texture(scene, ref >> 4), y1);  // §5: last row; ref: make_ref
-#endif
   });
   r.pager.finish_plan();
   Sizes z = sizes_for(scene, s, n, 0);

@@ -217,11 +217,12 @@ inline void texture_uv(TexturePlanes& p, int32_t x, int32_t y, int32_t uv[2]) {
 // material has no texels. Only valid on a Scene from read_scene.
 uint32_t triangle_texture(const Scene& scene, uint32_t id);
 
-// triangle_texture by a triangle's batch, the last batch's answer kept: a mesh's triangles (and BSP
-// pieces) come batch after batch. For the renderers' loops on 64-bit hosts (the boards look each
-// triangle's up: flash).
+// triangle_texture for the renderers' loops. On 64-bit hosts by a triangle's batch, the last batch's
+// answer kept: a mesh's triangles (and BSP pieces) come batch after batch. The boards look each
+// triangle's up and keep nothing (flash, stack).
 class BatchTextures {
  public:
+#if UINTPTR_MAX > 0xFFFFFFFFu
   // (One scene's: the answer kept is for the scene last asked about.)
   uint32_t of(const Scene& scene, uint32_t batch) {
     if (batch != batch_) {
@@ -235,6 +236,9 @@ class BatchTextures {
 
  private:
   uint32_t batch_ = kNone, texture_ = kNone;
+#else
+  uint32_t of_triangle(const Scene& scene, uint32_t id) { return triangle_texture(scene, id); }
+#endif
 };
 
 // make_texture_planes for triangle `id` of the scene (its world positions and TEXCOORD_0), drawn with

@@ -241,4 +241,15 @@ void TexturePager::make_lanes(uint32_t t, uint32_t slot) {
   lanes_made_[slot] = lut_keys_[slot].made;
 }
 
+#if UINTPTR_MAX > 0xFFFFFFFFu
+void KeptSampling::look_up(TexturePager& pager, const Scene& scene, uint32_t texture, const uint8_t* bytes,
+                           TexturePlanes& planes, Pixel colour) {
+  const Pixel* white = pager.white_lut(texture, bytes);
+  sampling_ = texture_sampling(planes, scene.texture_texels[texture], bytes, white, 0xFFFFFF, colour,
+                               pager.lanes_for(texture, white, 0xFFFFFF, colour, true));
+  texture_ = texture;
+  generation_ = pager.lut_generation();
+}
+#endif
+
 }  // namespace ml

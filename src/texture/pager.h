@@ -166,4 +166,34 @@ class TexturePager {
   uint32_t lanes_made_[kLanes ? kLutSlots : 1] = {};  // each one's table's LutKey::made when it was made
 };
 
+#if UINTPTR_MAX > 0xFFFFFFFFu
+// Small triangles' sampling (TexturePlanes::exact, texture_sampling) kept from one small triangle to
+// the next (both renderers, 64-bit hosts). A small triangle takes its texture's white table whatever
+// its colour, so the table, its lanes and the sampler's loop are looked up again only for another
+// texture or other bytes, or when the pager would do more than answer the same (a table made since,
+// another texture's white table asked for).
+class KeptSampling {
+ public:
+  // The sampling of the scene's texture `texture` (bytes: from TexturePager::get) for a small
+  // triangle's planes, drawn in `colour`.
+  const TextureSampling& for_texture(TexturePager& pager, const Scene& scene, uint32_t texture,
+                                     const uint8_t* bytes, TexturePlanes& planes, Pixel colour) {
+    if (texture != texture_ || bytes != sampling_.bytes || pager.lut_generation() != generation_ ||
+        !pager.white_lut_ready(texture))
+      look_up(pager, scene, texture, bytes, planes, colour);
+    sampling_.planes = &planes;
+    sampling_.colour = colour;
+    return sampling_;
+  }
+
+ private:
+  // Out of line: seldom taken, and the renderers' loops keep their registers.
+  void look_up(TexturePager& pager, const Scene& scene, uint32_t texture, const uint8_t* bytes,
+               TexturePlanes& planes, Pixel colour);
+
+  TextureSampling sampling_{};
+  uint32_t texture_ = kNone, generation_ = 0;  // sampling_'s texture and the pager's lut_generation then
+};
+#endif
+
 }  // namespace ml

@@ -101,8 +101,9 @@ class PlaneCache {
 // The BandWriter's texture fast paths of 64-bit hosts (#if UINTPTR_MAX > 0xFFFFFFFFu: the boards keep
 // their flash and stack for other code): a small triangle's 8x8 block sampled straight from its mask
 // and written into the band (write_textured_mask; the boards make a list of runs, texture_runs, and
-// put them row by row), a piece's texture looked up once a batch (BatchTextures), and the kept
-// planes given only to triangles that may be drawn again (may_draw_again).
+// put them row by row), a piece's texture looked up once a batch (BatchTextures, which on the boards
+// looks each piece's up), and the kept planes given only to triangles that may be drawn again
+// (may_draw_again).
 
 // Turns newly covered sample blocks (band-local rows) into band-buffer writes of the current piece's
 // colours. Colours are computed on the first write, so hidden pieces cost no shading.
@@ -143,11 +144,7 @@ class BandWriter : public CoverageWriter {
     front_facing_ = front_facing;
     shaded_ = false;
     wrote_piece_ = false;
-#if UINTPTR_MAX > 0xFFFFFFFFu
     texture_ = pager_ ? batch_textures_.of_triangle(*scene, triangle) : kNone;
-#else
-    texture_ = pager_ ? triangle_texture(*scene, triangle) : kNone;
-#endif
     texture_ready_ = false;
     lut_ = nullptr;
   }
@@ -394,24 +391,15 @@ class BandWriter : public CoverageWriter {
 #if UINTPTR_MAX > 0xFFFFFFFFu
   // write_textured_block on a 64-bit host: the samples straight from the mask (sample_block), into
   // the band itself when it stores colours as they are, else into row_ at their bits and out as a mask
-  // (or run by run). A small piece takes its texture's white table, its lanes and the sampler's loop
-  // for it whatever its colour, so they are looked up again only for another texture, or when the
-  // pager would do more than answer the same (a table made since, another texture's white table
-  // asked for); each piece sets its colour.
+  // (or run by run). The sampling is kept from small piece to small piece (KeptSampling); each piece
+  // sets its colour.
   bool write_textured_mask(TexturePlanes& planes, const uint8_t* bytes, uint64_t mask, int x, int y) {
-    if (texture_ != blocks_texture_ || bytes != blocks_.bytes || pager_->lut_generation() != blocks_generation_ ||
-        !pager_->white_lut_ready(texture_)) {
-      const Pixel* white = pager_->white_lut(texture_, bytes);
-      blocks_ = texture_sampling(planes, scene_->texture_texels[texture_], bytes, white, 0xFFFFFF, colors_.flat,
-                                 pager_->lanes_for(texture_, white, 0xFFFFFF, colors_.flat, true));
-      blocks_texture_ = texture_;
-      blocks_generation_ = pager_->lut_generation();
-    }
-    blocks_.colour = colors_.flat;
+    const TextureSampling& sampling =
+        kept_sampling_.for_texture(*pager_, *scene_, texture_, bytes, planes, colors_.flat);
     static_assert(kRowPixels >= 64, "a block's colours fit the row buffer");
     uint32_t stride = 8;
     Pixel* band = out_.pixels_at(x, y, &stride);
-    sample_block(blocks_, mask, x, y, band ? band : row_, band ? stride : 8);
+    sample_block(sampling, mask, x, y, band ? band : row_, band ? stride : 8);
     if (band || out_.put_mask(mask, x, y, row_)) return true;
     for (uint64_t m = mask; m != 0;) {  // row_[8 r + c] holds pixel (x + c, y + r)
       const int at = __builtin_ctzll(m), start = at & 7;
@@ -528,13 +516,11 @@ class BandWriter : public CoverageWriter {
   const Pixel* lut_ = nullptr;  // the piece's texel table (null: not looked up yet), its colour and generation
   Pixel lut_colour_ = 0;
   uint32_t lut_generation_ = 0;
+  [[no_unique_address]] BatchTextures batch_textures_;  // the pieces' textures (boards: empty)
 #if UINTPTR_MAX > 0xFFFFFFFFu  // the fast paths' state
   int band_end_ = 0;    // the band's end (pixel rows, may_draw_again)
   bool split_ = false;  // the piece is a BSP split part (begin_piece without the whole view)
-  BatchTextures batch_textures_;  // the pieces' textures
-  // Small pieces' blocks' sampling (write_textured_mask): for this texture, at this table generation.
-  TextureSampling blocks_{};
-  uint32_t blocks_texture_ = kNone, blocks_generation_ = 0;
+  KeptSampling kept_sampling_;  // small pieces' blocks' sampling (write_textured_mask)
 #endif
 };
 
@@ -1344,8 +1330,7 @@ void TilerFrame::plan_textures() {
   BatchTextures textures;
   for (uint32_t id = 0; id < scene_.triangle_count; ++id) {
     const Triangle tri = triangle_at(scene_, id);
-    // The boards look the texture up a triangle at a time (their flash).
-    const uint32_t texture = kVertexCache ? textures.of(scene_, tri.batch) : triangle_texture(scene_, id);
+    const uint32_t texture = textures.of_triangle(scene_, id);
     if (texture == kNone) continue;
     Vec3i world[3];
     vertices_world(scene_, tri.batch, tri.v, world);
@@ -1365,9 +1350,10 @@ void TilerFrame::plan_textures() {
   // duck: one piece each way instead of its 8,544); the boards walk it all (flash).
   const uint32_t count = scene_.texture_texels_count;
   uint32_t found = 0;
-  walk_pieces<false>([&](uint32_t p, uint32_t k) {
+  // (Captures named: with [&] the M0+ image's code is 4 bytes larger.)
+  walk_pieces<false>([this, &textures, &found, count](uint32_t p, uint32_t k) {
     const uint32_t triangle = bsp_piece(scene_, p).triangle;
-    const uint32_t texture = kVertexCache ? textures.of_triangle(scene_, triangle) : triangle_texture(scene_, triangle);
+    const uint32_t texture = textures.of_triangle(scene_, triangle);
     if (texture != kNone && texture_plan_.piece(texture, k)) ++found;
     return !kVertexCache || found < count;
   });
