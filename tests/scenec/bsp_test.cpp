@@ -7,6 +7,7 @@
 #include <map>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -253,6 +254,35 @@ CompileResult random_soup(uint32_t seed, int count) {
   return compile_mesh(mesh);
 }
 
+// A closed sphere of 2 rings x 2 rings triangles whose radius swells and shrinks in `lobes` bumps a
+// turn: a finely tessellated, not quite convex model (as the COLLADA duck) for the second BSP tree.
+SceneMesh bumpy_sphere(int rings, double bump, int lobes) {
+  SceneMesh mesh;
+  mesh.materials.resize(1);
+  mesh.nodes.resize(1);
+  MeshPrimitive prim;
+  prim.material = 0;
+  const int segments = 2 * rings;
+  for (int i = 0; i <= rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const double th = M_PI * i / rings, ph = 2 * M_PI * j / segments;
+      const double r = 1 + bump * std::sin(lobes * th) * std::cos(lobes * ph);
+      MeshVertex v{};
+      v.position[0] = r * std::sin(th) * std::cos(ph);
+      v.position[1] = r * std::cos(th);
+      v.position[2] = r * std::sin(th) * std::sin(ph);
+      prim.vertices.push_back(v);
+    }
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const uint32_t a = uint32_t(i * segments + j), b = uint32_t(i * segments + (j + 1) % segments);
+      prim.triangles.push_back({a, a + uint32_t(segments), b});
+      prim.triangles.push_back({b, a + uint32_t(segments), b + uint32_t(segments)});
+    }
+  mesh.nodes[0].primitives.push_back(prim);
+  return mesh;
+}
+
 }  // namespace
 
 TEST(SceneBsp, RandomSoupDepthOrder) {
@@ -483,4 +513,27 @@ TEST(SceneBsp, PiecesOfClosedMeshesShareEveryEdge) {
     }
     EXPECT_EQ(open, 0u) << open << " of " << edges.size() << " directed piece edges have no matching reverse edge";
   }
+}
+
+// build_bsp's second tree (half the split weight, four times the candidates) is kept only when it holds
+// fewer pieces: a bumpy closed sphere takes it, and it is a valid tree (every triangle's pieces, depth
+// order); the bundled scene keeps its first tree, blob for blob.
+TEST(SceneBsp, TheSecondTreeIsKeptWhenItHasFewerPieces) {
+  CompileOptions one_tree;
+  one_tree.bsp_second_tree = false;
+  const SceneMesh sphere = bumpy_sphere(32, 0.3, 5);
+  const CompileResult first = compile_mesh(sphere, one_tree), kept = compile_mesh(sphere);
+  ASSERT_TRUE(first.ok && kept.ok) << first.error << kept.error;
+  EXPECT_LT(kept.report.bsp_pieces, first.report.bsp_pieces);
+  Scene s;
+  ASSERT_TRUE(scenetest::read(kept.blob, &s).ok());
+  check_ids(s);
+  check_pieces(s);
+  EXPECT_GT(check_depth_order(s, 8, 150, 3), 100u);
+
+  const CompileResult bundled = build_default_scene(one_tree);
+  const CompileResult& both = scenetest::cached("default");
+  ASSERT_TRUE(bundled.ok && both.ok);
+  ASSERT_EQ(bundled.blob.size, both.blob.size);
+  EXPECT_EQ(memcmp(bundled.blob.data(), both.blob.data(), both.blob.size), 0);
 }
