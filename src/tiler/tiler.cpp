@@ -1326,7 +1326,10 @@ int TilerFrame::rows_at_once(size_t spare) const {
 }
 
 void TilerFrame::plan_textures() {
-  if (!pager_.active()) return;
+  // The plan picks when to free a texture and which to evict; a scene of one texture has neither
+  // choice (it is read at its first use and kept, the same loads and peak), so it is not planned (the
+  // duck at 320x240: 1.54 M of a 23.35 M frame, a band at a time).
+  if (!pager_.active() || scene_.texture_texels_count < 2) return;
   BatchTextures textures;
   for (uint32_t id = 0; id < scene_.triangle_count; ++id) {
     const Triangle tri = triangle_at(scene_, id);
