@@ -797,7 +797,6 @@ TileResult HierTiler::tile(const ConvexPoly& poly, CoverageWriter& writer) {
   return ok ? TileResult::Tiled : TileResult::Failed;
 }
 
-
 bool HierTiler::box_visible(const ConvexPoly& poly) {
   // The witness inside the box: visible. Most subtree tests are of a node's near child, with nothing
   // tiled since its parent's (2CylinderEngine, one band: 320x240 63.65 M -> 62.45 M a frame).
