@@ -123,11 +123,7 @@ void planes_from_view(const View& view, const Vec3i viewed[3], const int32_t uv[
   // texture_segment_whole: dd = L |a_0 + a_1 + a_2| (|a_i| < 2^36: below 2^51 with the factor).
   static_assert(kTextureAffineShiftBits + kTextureSegmentBits == 8, "65 dd is for the test's 1/64 (mapping.h)");
   out->whole_denom = 65 * (magnitude(out->a[0] + out->a[1] + out->a[2]) << kTextureSegmentBits);
-  // Nothing cached yet (samples have y >= 0).
-  out->rows = nullptr;
-  out->row_mask = 0;
-  out->one.y = -1;
-  out->piece.y = -1;
+  clear_texture_caches(out);
   out->exact = false;
 }
 

@@ -102,6 +102,15 @@ void make_texture_planes(const View& view, const Vec3i world[3], const int32_t u
 // that draws a block row by row finds the segments again in the next block.
 void use_segment_rows(TexturePlanes* planes, TextureSegment* rows, int count_bits);
 
+// Nothing cached in the planes (no segment rows, no segment or piece: samples have y >= 0), as
+// make_texture_planes leaves them.
+inline void clear_texture_caches(TexturePlanes* planes) {
+  planes->rows = nullptr;
+  planes->row_mask = 0;
+  planes->one.y = -1;
+  planes->piece.y = -1;
+}
+
 // The exact coordinates at lattice sample (X, Y) >= 0: sum uv_i e_i / sum e_i, floored (ExactSteps'
 // division, below).
 void exact_texture_uv(const TexturePlanes& p, int32_t x, int32_t y, ExactUv* out);

@@ -625,11 +625,7 @@ struct MaskRuns {
   uint32_t stride;
   bool next(SampleRun* run) {
     if (mask == 0) return false;
-    const int at = __builtin_ctzll(mask), start = at & 7;
-    const uint32_t rest = uint32_t(mask >> at) & (0xFFu >> start);  // the row from the run's start
-    const int n = __builtin_ctz(~rest);                               // ends at the row's end at the latest
-    *run = SampleRun{x + start, y + (at >> 3), n};
-    mask &= ~(((uint64_t(1) << n) - 1) << at);
+    *run = take_mask_run(&mask, x, y);
     return true;
   }
   Pixel* place(const SampleRun& run, Pixel** out) const {

@@ -80,6 +80,15 @@ inline void texture_row(TexturePlanes& planes, const TextureTexels& texture, con
 struct SampleRun {
   int32_t x, y, n;
 };
+// The first run of an 8x8 mask's set bits (bit 8 r + c: sample (x + c, y + r)), adjacent bits of one
+// row, taken off *mask (not 0).
+inline SampleRun take_mask_run(uint64_t* mask, int32_t x, int32_t y) {
+  const int at = __builtin_ctzll(*mask), start = at & 7;
+  const uint32_t rest = uint32_t(*mask >> at) & (0xFFu >> start);  // the row from the run's start
+  const int n = __builtin_ctz(~rest);                               // ends at the row's end at the latest
+  *mask &= ~(((uint64_t(1) << n) - 1) << at);
+  return SampleRun{x + start, y + (at >> 3), n};
+}
 // texture_row for each of `count` runs, their colours one after another in out: the tiler's block of
 // a small triangle, a few short runs (the format and the table looked at once for them all).
 void texture_runs(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes, const Pixel* lut,

@@ -74,10 +74,7 @@ class PlaneCache {
     const Set& set = sets_[triangle & (kSets - 1)];
     if (set.triangle != triangle) return false;
     memcpy(static_cast<void*>(planes), set.made, sizeof set.made);
-    planes->rows = nullptr;  // nothing cached yet, as make_texture_planes leaves them
-    planes->row_mask = 0;
-    planes->one.y = -1;
-    planes->piece.y = -1;
+    clear_texture_caches(planes);
     return true;
   }
   void keep(uint32_t triangle, const TexturePlanes& planes) {
@@ -368,13 +365,7 @@ class BandWriter : public CoverageWriter {
     static_assert(kRowPixels >= 64, "a block's colours fit the row buffer");
     SampleRun runs[32];  // at most 4 runs a row of 8
     int32_t count = 0;
-    while (mask != 0) {
-      const int at = __builtin_ctzll(mask), row = at >> 3, start = at & 7;
-      const uint32_t rest = uint32_t(mask >> at) & (0xFFu >> start);  // the row from the run's start
-      const int run = __builtin_ctz(~rest);                             // ends at the row's end at the latest
-      runs[count++] = SampleRun{x + start, y + row, run};
-      mask &= ~(((uint64_t(1) << run) - 1) << at);
-    }
+    while (mask != 0) runs[count++] = take_mask_run(&mask, x, y);
     // One texture_runs for the block, then its runs out.
     const TextureTexels& t = scene_->texture_texels[texture_];
     texture_runs(planes, t, bytes, lut_, lut_colour_, colors_.flat, runs, count, row_,
@@ -402,10 +393,8 @@ class BandWriter : public CoverageWriter {
     sample_block(sampling, mask, x, y, band ? band : row_, band ? stride : 8);
     if (band || out_.put_mask(mask, x, y, row_)) return true;
     for (uint64_t m = mask; m != 0;) {  // row_[8 r + c] holds pixel (x + c, y + r)
-      const int at = __builtin_ctzll(m), start = at & 7;
-      const int run = __builtin_ctz(~(uint32_t(m >> at) & (0xFFu >> start)));
-      out_.put_row(x + start, y + (at >> 3), row_ + at, run);
-      m &= ~(((uint64_t(1) << run) - 1) << at);
+      const SampleRun run = take_mask_run(&m, x, y);
+      out_.put_row(run.x, run.y, row_ + 8 * (run.y - y) + (run.x - x), run.n);
     }
     return true;
   }
