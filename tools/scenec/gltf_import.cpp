@@ -635,15 +635,15 @@ class Importer {
   }
 
   // An attribute the primitive can be drawn without (NORMAL, TEXCOORD_0), read as read_accessor does,
-  // `components` per element. An element of another type leaves it out with a warning (*out empty)
-  // instead of refusing the model; a TEXCOORD_0 of three components (UVW, as assimp's glTF exporter
-  // writes them) keeps its first two. A bad index, bytes or values still refuse it. *used: read.
-  bool read_optional(int index, int components, const std::string& semantic, const std::string& where,
-                     const std::string& what, std::vector<double>* out, size_t* count_out, bool* used) {
-    out->clear();
-    *used = false;
+  // `components` per element, one per vertex (`count` of them). Another element type or another
+  // count leaves it out with a warning (*out empty) instead of refusing the model; a TEXCOORD_0 of
+  // three components (UVW, as assimp's glTF exporter writes them) keeps its first two. A bad index,
+  // bytes or values still refuse it.
+  bool read_optional(int index, int components, const std::string& semantic, size_t count, const std::string& where,
+                     const std::string& what, std::vector<double>* out) {
+    size_t read = 0;
     if (index < 0 || size_t(index) >= model_.accessors.size())
-      return read_accessor(index, components, semantic, out, count_out);  // refused there (index out of range)
+      return read_accessor(index, components, semantic, out, &read);  // refused there (index out of range)
     const int have = tinygltf::GetNumComponentsInType(uint32_t(model_.accessors[size_t(index)].type));
     const bool uvw = semantic == "TEXCOORD_0" && have == 3;
     if (have != components && !uvw) {
@@ -651,14 +651,18 @@ class Importer {
       warn(where + ": " + semantic + " has " + kind + ", not " + std::to_string(components) + ": " + what + " ignored");
       return true;
     }
-    if (!read_accessor(index, have, semantic, out, count_out)) return false;
-    *used = true;
+    if (!read_accessor(index, have, semantic, out, &read)) return false;
+    if (read != count) {
+      warn(where + ": " + semantic + " count differs from POSITION count, " + what + " ignored");
+      out->clear();
+      return true;
+    }
     if (uvw) {
-      for (size_t i = 0; i < *count_out; ++i) {
+      for (size_t i = 0; i < count; ++i) {
         (*out)[2 * i] = (*out)[3 * i];
         (*out)[2 * i + 1] = (*out)[3 * i + 1];
       }
-      out->resize(2 * *count_out);
+      out->resize(2 * count);
       warn(where + ": TEXCOORD_0 has 3 components (UVW): the first two used");
     }
     return true;
@@ -823,27 +827,15 @@ class Importer {
         continue;
       }
       std::vector<double> pos, nrm, uv;
-      size_t count = 0, ncount = 0, uvcount = 0;
+      size_t count = 0;
       if (!read_accessor(pos_it->second, 3, "POSITION", &pos, &count)) return false;
       const auto n_it = prim.attributes.find("NORMAL");
-      if (n_it != prim.attributes.end()) {
-        bool used = false;
-        if (!read_optional(n_it->second, 3, "NORMAL", where, "normals", &nrm, &ncount, &used)) return false;
-        if (used && ncount != count) {
-          warn(where + ": NORMAL count differs from POSITION count, normals ignored");
-          nrm.clear();
-        }
-      }
+      if (n_it != prim.attributes.end() && !read_optional(n_it->second, 3, "NORMAL", count, where, "normals", &nrm))
+        return false;
       const auto uv_it = prim.attributes.find("TEXCOORD_0");
-      if (uv_it != prim.attributes.end()) {
-        bool used = false;
-        if (!read_optional(uv_it->second, 2, "TEXCOORD_0", where, "texture coordinates", &uv, &uvcount, &used))
-          return false;
-        if (used && uvcount != count) {
-          warn(where + ": TEXCOORD_0 count differs from POSITION count, texture coordinates ignored");
-          uv.clear();
-        }
-      }
+      if (uv_it != prim.attributes.end() &&
+          !read_optional(uv_it->second, 2, "TEXCOORD_0", count, where, "texture coordinates", &uv))
+        return false;
       std::vector<uint32_t> indices;
       if (prim.indices >= 0) {
         if (!read_indices(prim.indices, count, &indices)) return false;
