@@ -515,25 +515,38 @@ TEST(SceneBsp, PiecesOfClosedMeshesShareEveryEdge) {
   }
 }
 
-// build_bsp's second tree (half the split weight, four times the candidates) is kept only when it holds
-// fewer pieces: a bumpy closed sphere takes it, and it is a valid tree (every triangle's pieces, depth
-// order); the bundled scene keeps its first tree, blob for blob.
-TEST(SceneBsp, TheSecondTreeIsKeptWhenItHasFewerPieces) {
-  CompileOptions one_tree;
-  one_tree.bsp_second_tree = false;
-  const SceneMesh sphere = bumpy_sphere(32, 0.3, 5);
-  const CompileResult first = compile_mesh(sphere, one_tree), kept = compile_mesh(sphere);
-  ASSERT_TRUE(first.ok && kept.ok) << first.error << kept.error;
-  EXPECT_LT(kept.report.bsp_pieces, first.report.bsp_pieces);
-  Scene s;
-  ASSERT_TRUE(scenetest::read(kept.blob, &s).ok());
-  check_ids(s);
-  check_pieces(s);
-  EXPECT_GT(check_depth_order(s, 8, 150, 3), 100u);
-
-  const CompileResult bundled = build_default_scene(one_tree);
-  const CompileResult& both = scenetest::cached("default");
-  ASSERT_TRUE(bundled.ok && both.ok);
-  ASSERT_EQ(bundled.blob.size, both.blob.size);
-  EXPECT_EQ(memcmp(bundled.blob.data(), both.blob.data(), both.blob.size), 0);
+// build_bsp keeps the tree with the fewest pieces of its three scorings, each a valid tree (every
+// triangle's pieces, depth order): a bumpy closed sphere takes the second scoring (half the split
+// weight, four times the candidates), the bundled scene the third (twice the weight, twice the
+// candidates), blob for blob the tree that scoring alone builds.
+TEST(SceneBsp, TheTreeWithTheFewestPiecesIsKept) {
+  CompileOptions first, second, third;
+  first.bsp_more_trees = second.bsp_more_trees = third.bsp_more_trees = false;
+  second.bsp_split_weight = first.bsp_split_weight / 2;
+  second.bsp_triangle_candidates = first.bsp_triangle_candidates * 4;
+  third.bsp_split_weight = first.bsp_split_weight * 2;
+  third.bsp_triangle_candidates = first.bsp_triangle_candidates * 2;
+  const auto same_blob = [](const CompileResult& a, const CompileResult& b) {
+    return a.blob.size == b.blob.size && memcmp(a.blob.data(), b.blob.data(), a.blob.size) == 0;
+  };
+  const auto check_kept = [&](const CompileResult& kept, const CompileResult* alone, size_t winner) {
+    ASSERT_TRUE(kept.ok && alone[0].ok && alone[1].ok && alone[2].ok);
+    for (size_t i = 0; i < 3; ++i) {
+      if (i == winner) continue;
+      EXPECT_LT(kept.report.bsp_pieces, alone[i].report.bsp_pieces) << "scoring " << i;
+    }
+    EXPECT_TRUE(same_blob(kept, alone[winner]));
+    Scene s;
+    ASSERT_TRUE(scenetest::read(kept.blob, &s).ok());
+    check_ids(s);
+    check_pieces(s);
+    EXPECT_GT(check_depth_order(s, 8, 150, 3), 100u);
+  };
+  const SceneMesh sphere = bumpy_sphere(16, 0.3, 7);  // pieces 1,334 / 1,156 / 1,290
+  const CompileResult sphere_alone[3] = {compile_mesh(sphere, first), compile_mesh(sphere, second),
+                                         compile_mesh(sphere, third)};
+  check_kept(compile_mesh(sphere), sphere_alone, 1);
+  const CompileResult bundled_alone[3] = {build_default_scene(first), build_default_scene(second),
+                                          build_default_scene(third)};
+  check_kept(scenetest::cached("default"), bundled_alone, 2);  // 4,017 / 4,069 / 3,914
 }

@@ -949,30 +949,40 @@ void fill_subtree_bounds(const std::vector<Batch>& batches, const std::vector<Tr
     }
 }
 
-// Two scorings of the candidate planes, the tree with fewer pieces kept (the first on a tie): the
-// options' own, and one that weighs a split half as much and tries four times the triangle planes a
-// node. Neither wins everywhere. A closed, finely tessellated model takes the second: the COLLADA
-// duck's split ratio 2.03 -> 1.73, its tiler frame at 320x240 13.33 M -> 11.72 M instructions (a band
-// at a time 19.55 M -> 16.03 M). Scenes of separate objects or of long thin triangles keep the first
-// (the bundled scene 1.0499 against 1.0635, 2CylinderEngine 2.6539 against 2.6849). The second build,
-// with its wider search, costs more than the first (compiling 2CylinderEngine: about 10 s, 5 before).
+// Three scorings of the candidate planes, the tree with the fewest pieces kept (the earlier on a tie):
+// the options' own; one that weighs a split half as much and tries four times the triangle planes a
+// node; one that weighs a split twice as much and tries twice the triangle planes. None wins
+// everywhere. A closed, finely tessellated model takes the second: the COLLADA duck's split ratio 2.03
+// -> 1.73, its tiler frame at 320x240 13.33 M -> 11.72 M instructions. Scenes of many separate objects
+// take the third: the bundled scene 1.0499 -> 1.0230 (6.82 M -> 6.53 M), tessellated(100000) 1.2308 ->
+// 1.1437 (106.4 M -> 99.9 M). 2CylinderEngine keeps the first (2.6539; the second scoring alone made
+// its frame 62.1 M instead of 55.4 M). Fewer pieces is a proxy: office(8) takes the third with 1.3511
+// -> 1.3006 and its frame goes 2.18 M -> 2.24 M. The other builds cost more than the first, with their
+// wider searches (compiling 2CylinderEngine: about 13 s, 5 s for the first alone).
+struct OtherScoring {
+  int weight_times, weight_over, candidates_times;  // of bsp_split_weight and bsp_triangle_candidates
+};
+constexpr OtherScoring kOtherScorings[] = {{1, 2, 4}, {2, 1, 2}};
+
 bool build_bsp(const std::vector<Material>& materials, const std::vector<Batch>& batches,
                const std::vector<Triangle>& triangles, std::vector<Vertex>* vertices,
                const CompileOptions& options, BspResult* out, std::string* error) {
-  const std::vector<Vertex> unsplit = options.bsp_second_tree ? *vertices : std::vector<Vertex>();
+  const std::vector<Vertex> unsplit = options.bsp_more_trees ? *vertices : std::vector<Vertex>();
   if (!Builder(materials, batches, triangles, vertices, options).run(out, error)) return false;
-  if (!options.bsp_second_tree) return true;
-  CompileOptions second = options;
-  second.bsp_split_weight = std::max(1, options.bsp_split_weight / 2);
-  second.bsp_triangle_candidates = options.bsp_triangle_candidates * 4;
-  std::vector<Vertex> second_vertices = unsplit;  // each build appends its own split vertices
-  BspResult second_out;
-  std::string second_error;
-  if (!Builder(materials, batches, triangles, &second_vertices, second).run(&second_out, &second_error) ||
-      second_out.pieces.size() >= out->pieces.size())
-    return true;
-  *out = std::move(second_out);
-  *vertices = std::move(second_vertices);
+  if (!options.bsp_more_trees) return true;
+  for (const OtherScoring& o : kOtherScorings) {
+    CompileOptions other = options;
+    other.bsp_split_weight = std::max(1, options.bsp_split_weight * o.weight_times / o.weight_over);
+    other.bsp_triangle_candidates = options.bsp_triangle_candidates * o.candidates_times;
+    std::vector<Vertex> other_vertices = unsplit;  // each build appends its own split vertices
+    BspResult other_out;
+    std::string other_error;
+    if (!Builder(materials, batches, triangles, &other_vertices, other).run(&other_out, &other_error) ||
+        other_out.pieces.size() >= out->pieces.size())
+      continue;
+    *out = std::move(other_out);
+    *vertices = std::move(other_vertices);
+  }
   return true;
 }
 

@@ -159,9 +159,10 @@ struct CompileOptions {
   // longest side when it cuts at most bsp_cell_split_permille of the sampled pieces.
   int bsp_cell_pieces = 32;
   int bsp_cell_split_permille = 10;
-  // A second tree built with bsp_split_weight halved and four times the triangle candidates, kept
-  // when it holds fewer pieces (bsp.cpp, build_bsp).
-  bool bsp_second_tree = true;
+  // Two more trees, built with bsp_split_weight halved and four times the triangle candidates, and
+  // with it doubled and twice the candidates; the tree with the fewest pieces is kept (bsp.cpp,
+  // build_bsp).
+  bool bsp_more_trees = true;
 };
 
 struct CompileReport {
