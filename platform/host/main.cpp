@@ -275,10 +275,18 @@ std::string status_text(const ml::Status& s) {
   return s.message;
 }
 
+void print_warnings(const mlhost::LoadedScene& loaded) {
+  for (const auto& w : loaded.warnings) fprintf(stderr, "maskline: warning: %s\n", w.c_str());
+}
+
+// The scene at `path` (the bundled one for ""), or exit with one line. A glTF input's compiler
+// warnings go to stderr first: a texture that did not decode draws its material colour, and the
+// warning says why.
 ml::Scene require_scene(const std::string& path, mlhost::LoadedScene* loaded,
                         const ml::CompileOptions& options = ml::CompileOptions()) {
   std::string error;
   if (!mlhost::load_scene(path, loaded, &error, true, options)) failure(error);
+  print_warnings(*loaded);
   return loaded->scene;
 }
 
@@ -371,7 +379,7 @@ int cmd_compile(int argc, char** argv) {
   mlhost::LoadedScene loaded;
   std::string error;
   if (!mlhost::load_scene(in, &loaded, &error, true, options)) failure(error);
-  for (const auto& w : loaded.warnings) fprintf(stderr, "maskline: warning: %s\n", w.c_str());
+  print_warnings(loaded);
   if (!ml::save_blob_file(*out, loaded.blob, &error)) failure(error);
   const ml::Scene& s = loaded.scene;
   printf("wrote %s: %zu bytes, %u triangles, %u nodes, %u materials, %u BSP nodes, %u pieces\n", out->c_str(),
@@ -434,7 +442,7 @@ int cmd_info(int argc, char** argv) {
   printf("nodes: %u\n", scene.node_count);
   printf("materials: %u\n", scene.material_count);
   printf("batches: %u, vertices: %u, textures: %u\n", scene.batch_count, scene.vertex_count, scene.texture_count);
-  if (!loaded.warnings.empty()) printf("compiler warnings: %zu (maskline compile prints them)\n", loaded.warnings.size());
+  if (!loaded.warnings.empty()) printf("compiler warnings: %zu (on stderr)\n", loaded.warnings.size());
   printf("bounds (world units): min %d,%d,%d max %d,%d,%d\n", info.bounds_min[0], info.bounds_min[1], info.bounds_min[2],
          info.bounds_max[0], info.bounds_max[1], info.bounds_max[2]);
   printf("bounds (glTF units): min %g,%g,%g max %g,%g,%g\n", mlhost::world_to_gltf(map, 0, info.bounds_min[0]),

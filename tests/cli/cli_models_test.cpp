@@ -64,4 +64,28 @@ TEST(CliModels, ANoTrianglesRefusalNamesTheSkippedPrimitives) {
   EXPECT_NE(r.err_lines()[0].find("mode POINTS skipped"), std::string::npos) << r.describe();
 }
 
+// A model that renders despite the compiler's warnings: `render` and `info` print them on stderr as
+// `compile` does (a user then sees why part of the model is missing), and still succeed.
+TEST(CliModels, RenderAndInfoPrintTheCompilerWarnings) {
+  const std::string cube = std::string(testfiles::kAssimpGltf2Models) + "/IncorrectVertexArrays/Cube.gltf";
+  if (!clitest::file_exists(cube)) GTEST_SKIP() << "assimp-testmodels not installed";
+  const std::string dir = clitest::make_temp_dir();
+  const clitest::RunResult compiled = clitest::run_cli({"compile", cube, "-o", dir + "/cube.mls"});
+  const clitest::RunResult rendered = clitest::run_cli({"render", cube, "--size", "64x48", "-o", dir + "/out.png"});
+  const clitest::RunResult info = clitest::run_cli({"info", cube});
+  const bool png = clitest::file_exists(dir + "/out.png");
+  clitest::remove_tree(dir);
+  ASSERT_EQ(compiled.exit_code, 0) << compiled.describe();
+  ASSERT_GE(compiled.err_lines().size(), 2u) << compiled.describe();
+  for (const clitest::RunResult* r : {&rendered, &info}) {
+    EXPECT_EQ(r->exit_code, 0) << r->describe();
+    EXPECT_EQ(r->err_lines(), compiled.err_lines()) << r->describe();
+    EXPECT_FALSE(r->sanitizer_report()) << r->describe();
+  }
+  for (const std::string& line : rendered.err_lines()) EXPECT_EQ(line.rfind("maskline: warning: ", 0), 0u) << line;
+  EXPECT_TRUE(png);
+  EXPECT_NE(info.out.find("compiler warnings: " + std::to_string(compiled.err_lines().size()) + " (on stderr)"),
+            std::string::npos) << info.out;
+}
+
 }  // namespace
