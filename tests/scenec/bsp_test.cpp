@@ -518,7 +518,8 @@ TEST(SceneBsp, PiecesOfClosedMeshesShareEveryEdge) {
 // build_bsp keeps the tree with the fewest pieces of its three scorings, each a valid tree (every
 // triangle's pieces, depth order): a bumpy closed sphere takes the second scoring (half the split
 // weight, four times the candidates), the bundled scene the third (twice the weight, twice the
-// candidates), blob for blob the tree that scoring alone builds.
+// candidates), blob for blob the tree that scoring alone builds; so does a scene large enough for
+// the threaded builds.
 TEST(SceneBsp, TheTreeWithTheFewestPiecesIsKept) {
   CompileOptions first, second, third;
   first.bsp_more_trees = second.bsp_more_trees = third.bsp_more_trees = false;
@@ -549,4 +550,14 @@ TEST(SceneBsp, TheTreeWithTheFewestPiecesIsKept) {
   const CompileResult bundled_alone[3] = {build_default_scene(first), build_default_scene(second),
                                           build_default_scene(third)};
   check_kept(scenetest::cached("default"), bundled_alone, 2);  // 4,017 / 4,069 / 3,914
+  // From 4,096 triangles the second scoring's tree is built on a thread of its own: the same choice.
+  const CompileResult tessellated_alone[3] = {build_tessellated_scene(5000, first),
+                                              build_tessellated_scene(5000, second),
+                                              build_tessellated_scene(5000, third)};
+  size_t fewest = 0;
+  for (size_t i = 1; i < 3; ++i)
+    if (tessellated_alone[i].report.bsp_pieces < tessellated_alone[fewest].report.bsp_pieces) fewest = i;
+  const CompileResult tessellated = build_tessellated_scene(5000);
+  ASSERT_GE(tessellated.report.triangles, 4096u);
+  check_kept(tessellated, tessellated_alone, fewest);
 }
