@@ -31,6 +31,13 @@ std::vector<std::string> RunResult::err_lines() const {
   return lines;
 }
 
+std::vector<std::string> RunResult::err_lines_besides_warnings() const {
+  std::vector<std::string> lines;
+  for (const std::string& line : err_lines())
+    if (line.rfind("maskline: warning: ", 0) != 0) lines.push_back(line);
+  return lines;
+}
+
 bool RunResult::sanitizer_report() const {
   return err.find("Sanitizer") != std::string::npos || err.find("runtime error:") != std::string::npos ||
          err.find("==ERROR") != std::string::npos;

@@ -15,6 +15,9 @@ struct RunResult {
   std::string out, err;
 
   std::vector<std::string> err_lines() const;
+  // The stderr lines that are not the compiler's warnings ("maskline: warning: ..."), which a glTF
+  // input may print before its render or its refusal.
+  std::vector<std::string> err_lines_besides_warnings() const;
   // Sanitizer or crash text in stderr.
   bool sanitizer_report() const;
   std::string describe() const;  // for failure messages
