@@ -3,6 +3,7 @@
 // sweep, fault injection and bytes read (docs/textures.md).
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -344,7 +345,13 @@ TEST(TextureSampler, FormatsDecodeAndBadPaletteIndicesStayInside) {
 
 // ---- both renderers choose the same texel ----------------------------------------------------------
 
+// Unlit and flat: identical. Gouraud: the texel the same, the smooth colour it is multiplied by is
+// each renderer's own interpolation of the vertex colours (the tiler's colour planes, the scanline
+// renderer's weights), which agree within one level (docs/tiler.md, shading; OracleRenderersAgree's
+// Gouraud tests): so within one level, and rare (the duck, whose normals are smooth, at 24x18 turned
+// -40 degrees: one pixel of 432, one level of red).
 TEST(TextureRender, TilerAndScanlineImagesAreIdentical) {
+  size_t gouraud_pixels = 0, gouraud_off_by_one = 0;
   for (const std::string& path : textest::textured_scenes()) {
     const mlhost::LoadedScene& s = load(path);
     ASSERT_NE(s.scene.info, nullptr) << s.name;
@@ -359,12 +366,19 @@ TEST(TextureRender, TilerAndScanlineImagesAreIdentical) {
         ASSERT_TRUE(t.status.ok() && l.status.ok()) << path << ": " << t.status.message << " / " << l.status.message;
         ASSERT_TRUE(t.contract && l.contract) << t.contract_error << l.contract_error;
         EXPECT_GT(t.stats.texture_loads, 0u) << path;
-        size_t differ = 0;
-        for (size_t i = 0; i < t.pixels.size(); ++i) differ += t.pixels[i] != l.pixels[i];
-        EXPECT_EQ(differ, 0u) << path << " frame " << frame << " shading " << int(mode);
+        const bool smooth = mode == ml::ShadingMode::Gouraud;
+        size_t differ = 0, apart = 0;
+        for (size_t i = 0; i < t.pixels.size(); ++i) {
+          differ += t.pixels[i] != l.pixels[i];
+          for (int shift : {0, 8, 16})
+            if (std::abs(int((t.pixels[i] >> shift) & 255) - int((l.pixels[i] >> shift) & 255)) > 1) ++apart;
+        }
+        EXPECT_EQ(smooth ? apart : differ, 0u) << path << " frame " << frame << " shading " << int(mode);
+        if (smooth) gouraud_pixels += t.pixels.size(), gouraud_off_by_one += differ;
       }
     }
   }
+  EXPECT_LE(gouraud_off_by_one * 1000, gouraud_pixels) << gouraud_off_by_one << " of " << gouraud_pixels;
 }
 
 // Both renderers decide alike which triangles are small (TexturePlanes::exact: every sample divided
