@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "core/band.h"
+#include "core/build.h"
 #include "core/jitter.h"
 #include "shade/shade.h"
 #include "texture/mapping.h"
@@ -1130,7 +1131,7 @@ class TilerFrame {
   // planes; false when the sink refused a write.
   // Out of line and optimized for size: rare (triangles the near plane or the guard band cuts), off
   // the walk's loop (m0plus: 278 bytes, 312 at -O2; that image is within a few hundred bytes of its budget).
-  [[gnu::noinline, gnu::optimize("Os")]] bool tile_in_whole_parts(ConvexPoly* poly, const ScreenTriangle* whole_parts, int count,
+  [[gnu::noinline]] ML_OPTIMIZE_SIZE bool tile_in_whole_parts(ConvexPoly* poly, const ScreenTriangle* whole_parts, int count,
                                              const Vec3i* world);
   // The rows rendered at once: the most whole bands whose extra arena bytes (tiler_render_rows_bytes)
   // `spare` holds and, with paged textures, whose planned texture residency (TexturePlan::band_peak)
