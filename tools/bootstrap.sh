@@ -13,7 +13,7 @@ packages=(
   libpng-dev            # PNG sink
   libgpiod-dev          # SPI panel reset/data-command lines
   assimp-testmodels     # real glTF 2.0 inputs, good and broken
-  assimp-utils          # converts a test model to glTF for the benchmarks (tools/bench/run.sh)
+  assimp-utils          # converts the COLLADA duck to glTF for the benchmarks and the texture tests
   valgrind              # instruction counts for benchmarks
   time                  # peak resident memory in the benchmarks
   clang                 # libFuzzer target for the blob reader
