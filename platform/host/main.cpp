@@ -275,10 +275,6 @@ std::string status_text(const ml::Status& s) {
   return s.message;
 }
 
-void print_warnings(const mlhost::LoadedScene& loaded) {
-  for (const auto& w : loaded.warnings) fprintf(stderr, "maskline: warning: %s\n", w.c_str());
-}
-
 // The scene at `path` (the bundled one for ""), or exit with one line. A glTF input's compiler
 // warnings go to stderr first: a texture that did not decode draws its material colour, and the
 // warning says why.
@@ -286,7 +282,7 @@ ml::Scene require_scene(const std::string& path, mlhost::LoadedScene* loaded,
                         const ml::CompileOptions& options = ml::CompileOptions()) {
   std::string error;
   if (!mlhost::load_scene(path, loaded, &error, true, options)) failure(error);
-  print_warnings(*loaded);
+  for (const auto& w : loaded->warnings) fprintf(stderr, "maskline: warning: %s\n", w.c_str());
   return loaded->scene;
 }
 
@@ -377,11 +373,9 @@ int cmd_compile(int argc, char** argv) {
   if (const auto* v = find_option(a, "--texture-max"))
     options.texture_max_size = int(parse_integer("--texture-max", *v, 1, ml::kMaxTextureDim));
   mlhost::LoadedScene loaded;
+  const ml::Scene s = require_scene(in, &loaded, options);
   std::string error;
-  if (!mlhost::load_scene(in, &loaded, &error, true, options)) failure(error);
-  print_warnings(loaded);
   if (!ml::save_blob_file(*out, loaded.blob, &error)) failure(error);
-  const ml::Scene& s = loaded.scene;
   printf("wrote %s: %zu bytes, %u triangles, %u nodes, %u materials, %u BSP nodes, %u pieces\n", out->c_str(),
          loaded.blob.size, s.triangle_count, s.node_count, s.material_count, s.bsp_node_count, s.bsp_piece_count);
   return 0;
