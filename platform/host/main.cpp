@@ -559,7 +559,7 @@ void finish_render_args(RenderArgs* r) {
 
 // The arena the CLI gives a render unless told otherwise (--arena): what it needs plus the spare bytes
 // that make it faster (render_spare_bytes: the tiler's bands rendered at once, its band plan and vertex
-// cache), as a board with RAM to spare does.
+// cache; the scanline renderer's vertex cache), as a board with RAM to spare does.
 // The image is the same with or without them.
 size_t default_arena_bytes(const ml::Scene& scene, const ml::Camera& camera, const ml::RenderOptions& o) {
   return ml::render_arena_bytes(scene, camera, o) + ml::render_spare_bytes(scene, camera, o);

@@ -8,7 +8,8 @@ size_t render_arena_bytes(const Scene& scene, const Camera& camera, const Render
 }
 
 size_t render_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options) {
-  return options.renderer == RendererKind::Tiler ? render_tiler_spare_bytes(scene, camera, options) : 0;
+  return options.renderer == RendererKind::Tiler ? render_tiler_spare_bytes(scene, camera, options)
+                                                 : render_scanline_spare_bytes(scene);
 }
 
 Status render(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,

@@ -24,7 +24,8 @@ size_t render_arena_bytes(const Scene& scene, const Camera& camera, const Render
 // an upper bound for a frame whose textures keep it to fewer; the plan of the bands that leaves, its
 // BSP subtrees' screen rectangles and textured triangles' planes, tiler_plan_bytes; for a frame of
 // one band the plan's facing bits alone, which 32-bit boards do not keep: 0 there; and its vertex
-// cache, tiler_cache_bytes, 0 on 32-bit boards). Same image either way.
+// cache, tiler_cache_bytes, 0 on 32-bit boards; the scanline renderer's vertex cache,
+// scanline_spare_bytes, 0 on 32-bit boards). Same image either way.
 size_t render_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
 
 Status render(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
@@ -41,6 +42,7 @@ Status render_tiler(const Scene& scene, const Camera& camera, const RenderOption
 Status render_tiler_box(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
                         Sink& sink, Stats* stats);
 size_t render_scanline_arena_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
+size_t render_scanline_spare_bytes(const Scene& scene);
 Status render_scanline(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
                        Sink& sink, Stats* stats);
 

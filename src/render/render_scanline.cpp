@@ -8,6 +8,8 @@ size_t render_scanline_arena_bytes(const Scene& scene, const Camera& camera, con
   return scanline_arena_bytes(scene, camera, effective_options(options));
 }
 
+size_t render_scanline_spare_bytes(const Scene& scene) { return scanline_spare_bytes(scene); }
+
 Status render_scanline(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
                        Sink& sink, Stats* stats) {
   // The scanline renderer filters with its own box over corner samples (docs/scanline.md).

@@ -29,7 +29,7 @@ Lattice make_lattice(int width, int height, int aa);
 
 // ySortList element (§3.1): 8 bytes.
 struct YSortEntry {
-  uint32_t ref;     // triangle id * 8 + piece index (pieces from project_triangle)
+  uint32_t ref;     // triangle id * 16 + 8 when it faces away + piece index (scanline.cpp, make_ref)
   uint16_t min_y;   // first and last sample row the piece's bounding box touches
   uint16_t max_y;
 };

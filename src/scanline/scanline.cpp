@@ -12,6 +12,7 @@
 #include "texture/mapping.h"
 #include "texture/pager.h"
 #include "texture/sampler.h"
+#include "view/vertex_cache.h"
 
 namespace ml {
 namespace scan {
@@ -310,36 +311,59 @@ inline uint32_t make_ref(uint32_t id, int facing, int piece) {
   return (id << 4) | (facing < 0 ? 8u : 0u) | uint32_t(piece);
 }
 
+// Whether the view transforms of the ySortList pass and of activation come from a vertex cache
+// (view/vertex_cache.h): a vertex of a mesh is shared by about six triangles, and every triangle the
+// pass keeps is transformed again when it activates. The same values as view_triangle's: the same image.
+inline bool holds(const VertexCache* cache) { return kVertexCacheBuilt && cache && cache->entries() > 0; }
+// Whether a batch's triangles share their vertices enough for the cache: a vertex used by three
+// triangles or more on average (vertices <= triangles; a mesh's look-ups miss one in four or five). A
+// batch of boxes with a vertex per corner and face (24 for 12 triangles: office(8)'s, where two look-ups
+// in three miss) loses more to the look-ups than the cache saves.
+inline bool shares_vertices(const Batch& b) { return b.vertex_count <= b.triangle_count; }
+// The cache's entries for the scene: none when no batch shares its vertices (or on the boards).
+uint32_t cache_entries(const Scene& scene) {
+  bool any = false;
+  for (uint32_t b = 0; b < scene.batch_count && !any; ++b) any = shares_vertices(scene.batches[b]);
+  return kVertexCacheBuilt && any ? VertexCache::entries_for(scene.vertex_count) : 0;
+}
+
 // Calls f(ref, min_y, max_y) for every piece that can cover a sample; returns the triangles that
-// gave none (culled: back-facing, cut out, behind the eye, off screen, degenerate).
+// gave none (culled: back-facing, cut out, behind the eye, off screen, degenerate). cache: null, or a
+// vertex cache for the view transforms (which f may drop).
 template <typename F>
-uint32_t for_each_piece(const Scene& scene, const Setup& s, F f) {
+uint32_t for_each_piece(const Scene& scene, const Setup& s, VertexCache* cache, F f) {
   uint32_t culled = 0;
+  bool cached = false;  // the batch's view transforms from the cache
   const Lattice& lat = s.lat;
   uint32_t batch = 0xFFFFFFFFu;
   const Material* material = nullptr;
   for (uint32_t id = 0; id < scene.triangle_count; ++id) {
-    const uint32_t tri_batch = triangle_at(scene, id).batch;
-    if (tri_batch != batch) {  // a batch's triangles are consecutive: one look-up each
-      batch = tri_batch;
+    const Triangle tri = triangle_at(scene, id);
+    if (tri.batch != batch) {  // a batch's triangles are consecutive: one look-up each
+      batch = tri.batch;
       material = &scene.materials[scene.batches[batch].material];
+      cached = holds(cache) && shares_vertices(scene.batches[batch]);
     }
     const Material& m = *material;
     if (cut_out(m)) { ++culled; continue; }
     Vec3i world[3];
     int32_t x[3], y[3];
-    triangle_world(scene, id, world);
+    vertices_world(scene, tri.batch, tri.v, world);  // (a linear read: cheaper than the cache's look-ups)
     // Back faces are culled in world space before projecting (exact, as the tiler does).
     const int facing = triangle_facing(s.view, world);
     if (facing == 0 || (facing < 0 && !m.double_sided)) { ++culled; continue; }
     ScreenTriangle pieces[kMaxClipTriangles];
+    ViewTriangle viewed;
+    if (cached && holds(cache)) cache->view(tri.batch, tri.v, &viewed);  // (f may have dropped it)
+    else view_triangle(s.view, world, &viewed);
     int count;
-    if (project_unclipped_positions(s.view, world, x, y)) {
+    if (viewed.unclipped) {
       // The common case needs only the positions here (activation projects again): ordered as
       // project_triangle orders them, so the piece is the same.
+      unclipped_positions(s.view, viewed, x, y);
       count = positions_piece(x, y, &pieces[0]);
     } else {
-      count = project_triangle(s.view, world, facing, pieces);
+      count = project_triangle(s.view, viewed, facing, pieces);
     }
     bool any = false;
     for (int k = 0; k < count; ++k) {
@@ -408,7 +432,7 @@ void count_n_m(const Scene& scene, const Setup& s, uint32_t* n_out, uint32_t* m_
     for (int i = 0; i <= kBlockRows; ++i) diff[i] = 0;
     const int32_t end = base + kBlockRows;  // exclusive
     uint32_t count = 0;
-    for_each_piece(scene, s, [&](uint32_t, uint16_t y0, uint16_t y1) {
+    for_each_piece(scene, s, nullptr, [&](uint32_t, uint16_t y0, uint16_t y1) {
       ++count;
       if (y1 < base || y0 >= end) return;
       diff[max_of<int32_t>(y0, base) - base] += 1;
@@ -512,6 +536,8 @@ struct Renderer {
   uint64_t* acc = nullptr;           // l > 1: per-pixel channel sums, 21 bits each
   Pixel bg = 0;
 
+  VertexCache* vertices = nullptr;  // activation's view transforms (for_each_piece's cache), or null
+
   // textures: the pager, and per yActiveList slot the texture (kNone: untextured; kTexReady: planes
   // set up) and its perspective planes, set up at the slot's first shading call
   TexturePager pager;
@@ -536,13 +562,18 @@ struct Renderer {
   void activate(const YSortEntry& e, int32_t y) {
     const uint32_t id = e.ref >> 4;
     const int k = int(e.ref & 7);
-    Vec3i world[3];
-    triangle_world(*scene, id, world);
     ScreenTriangle pieces[kMaxClipTriangles];
     // Deterministic: the same pieces as the ySortList pass, which also found the facing. (Its view
     // transform kept for a textured triangle's planes, below.)
     ViewTriangle viewed;
-    view_triangle(s.view, world, &viewed);
+    const Triangle tri = triangle_at(*scene, id);
+    if (holds(vertices) && shares_vertices(scene->batches[tri.batch])) {
+      vertices->view(tri.batch, tri.v, &viewed);
+    } else {
+      Vec3i world[3];
+      triangle_world(*scene, id, world);
+      view_triangle(s.view, world, &viewed);
+    }
     project_triangle(s.view, viewed, (e.ref & 8) ? -1 : 1, pieces);
     const ScreenTriangle& t = pieces[k];
     uint32_t slot;
@@ -1237,6 +1268,11 @@ size_t scanline_arena_bytes(const Scene& scene, const Camera& camera, const Rend
   return sizes_for(scene, s, n, m).need();
 }
 
+size_t scanline_spare_bytes(const Scene& scene) {
+  const uint32_t entries = cache_entries(scene);
+  return entries ? VertexCache::end_bytes(entries) : 0;
+}
+
 Status scanline_render(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,
                        Sink& sink, Stats* stats) {
   Renderer r;
@@ -1260,7 +1296,8 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
 
   const size_t start = arena.used();
   size_t peak = 0;
-  auto note = [&]() { peak = max_of(peak, arena.used() - start); };
+  size_t cache_bytes = 0;  // the vertex cache's, at the end of the arena while it is held
+  auto note = [&]() { peak = max_of(peak, arena.used() - start + cache_bytes); };
   auto too_small = [&]() {
     uint32_t n = 0, m = 0;
     count_n_m(scene, s, &n, &m);
@@ -1272,13 +1309,31 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
     st = r.pager.begin(scene, options.texture_source, options.texture_pool_bytes, arena, stats);
     if (!st.ok()) { arena.release_to(start); return too_small(); }
   }
-  // Build ySortList straight into the free part of the arena, then claim exactly what it used.
+  // Build ySortList straight into the free part of the arena, then claim exactly what it used. On a
+  // 64-bit host a vertex cache takes the end of the free part (scanline_spare_bytes) and keeps it while
+  // the list and then the frame's arrays leave it room: it is dropped, never a failure, once they need
+  // its bytes (the same frame, slower).
   arena.allocate(0, 8);
   const size_t free_bytes = arena.size() - arena.used();
   YSortEntry* ys_space = reinterpret_cast<YSortEntry*>(arena.allocate(0, 8));
-  const size_t cap = free_bytes / sizeof(YSortEntry);
+  VertexCache cache;
+  if (kVertexCacheBuilt && cache_entries(scene) > 0) {
+    cache_bytes = cache.init_at_end(ys_space, free_bytes, scene, s.view, cache_entries(scene));
+    r.vertices = &cache;
+  }
+  const auto keep_cache_if = [&](bool room) {
+    if (room || cache_bytes == 0) return;
+    cache.drop();
+    cache_bytes = 0;
+  };
+  size_t cap = (free_bytes - cache_bytes) / sizeof(YSortEntry);
   uint32_t n = 0;
-  stats->triangles_culled = for_each_piece(scene, s, [&](uint32_t ref, uint16_t y0, uint16_t y1) {
+  stats->triangles_culled = for_each_piece(scene, s, r.vertices, [&](uint32_t ref, uint16_t y0, uint16_t y1) {
+    if (n == cap && cache_bytes) {  // the list reaches the cache
+      peak = max_of(peak, arena.used() - start + size_t(n) * sizeof(YSortEntry) + cache_bytes);
+      keep_cache_if(false);
+      cap = free_bytes / sizeof(YSortEntry);
+    }
     if (n < cap) ys_space[n] = YSortEntry{ref, y0, y1};
     ++n;
     // §5: last row; ref: make_ref
@@ -1286,6 +1341,8 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
   });
   r.pager.finish_plan();
   Sizes z = sizes_for(scene, s, n, 0);
+  peak = max_of(peak, arena.used() - start + min_of<size_t>(n, cap) * sizeof(YSortEntry) + cache_bytes);
+  keep_cache_if(arena.size() - start >= z.phase1() + cache_bytes);
   if (arena.size() - start < z.phase1()) { arena.release_to(start); return too_small(); }
   YSortEntry* ys = static_cast<YSortEntry*>(arena.allocate(z.ysort, 8));
   r.drawn = static_cast<uint32_t*>(arena.allocate(z.drawn, 8));
@@ -1308,6 +1365,7 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
   }
   arena.release_to(mark);
   z = sizes_for(scene, s, n, m);
+  keep_cache_if(arena.size() - start >= z.need() + cache_bytes);
   if (arena.size() - start < z.need()) { arena.release_to(start); return error(StatusCode::ArenaTooSmall,
       "arena too small for the scanline renderer", start + z.need()); }
   r.ys = ys;

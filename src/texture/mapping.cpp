@@ -254,12 +254,9 @@ void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, 
   planes_from_view(view, viewed->p, uv, den, ox, oy, t.width, t.height, error_bits, out);
   if (!viewed->unclipped) return;
   // The lattice rows and columns of samples within the projected vertices' box (the positions
-  // project_unclipped_positions gives): sample X lies at subpixel (256 X + ox) / den.
+  // unclipped_positions gives): sample X lies at subpixel (256 X + ox) / den.
   int32_t sx[3], sy[3];
-  for (int i = 0; i < 3; ++i) {
-    sx[i] = int32_t(view.center_x + viewed->ox[i]);
-    sy[i] = int32_t(view.center_y + viewed->oy[i]);
-  }
+  unclipped_positions(view, *viewed, sx, sy);
   const int64_t lo_x = min_of(sx[0], min_of(sx[1], sx[2])), hi_x = max_of(sx[0], max_of(sx[1], sx[2]));
   const int64_t lo_y = min_of(sy[0], min_of(sy[1], sy[2])), hi_y = max_of(sy[0], max_of(sy[1], sy[2]));
   const int64_t x0 = floor_shift(lo_x * den - ox + kSubpixelOne - 1, kSubpixelBits);

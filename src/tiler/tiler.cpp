@@ -1089,9 +1089,8 @@ class NodeRects {
 #define ML_HOST_NOINLINE
 #endif
 
-// The vertex cache (view/vertex_cache.h) is a 64-bit host's, like the plan's extras: on the boards
-// its code would pass the m0plus image's flash budget.
-constexpr bool kVertexCache = BandPlan::kExtras;
+// The vertex cache (view/vertex_cache.h) is a 64-bit host's, like the plan's extras.
+constexpr bool kVertexCache = kVertexCacheBuilt;
 
 uint32_t vertex_cache_entries(const Scene& scene) {
   return kVertexCache ? VertexCache::entries_for(scene.vertex_count) : 0;

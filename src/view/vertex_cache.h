@@ -1,6 +1,7 @@
 // A frame's vertices in world and view space, kept by vertex index so that a vertex is decoded
 // (vertex_world) and transformed (view_vertex) about once a frame, not once for each triangle that
-// shares it (about six in a mesh) and again in every band a piece is drawn in. Direct-mapped: entry
+// shares it (about six in a mesh), again in every band a piece is drawn in (the tiler) and again when
+// a triangle activates (the scanline renderer). Direct-mapped: entry
 // `vertex & (entries - 1)`, so the neighbouring indices of a mesh's neighbouring triangles take
 // different entries. The values are the ones vertices_world and view_triangle give, exactly: a cache of
 // any size changes no image and no count.
@@ -13,6 +14,10 @@
 #include "view/view.h"
 
 namespace ml {
+
+// Whether the renderers keep a vertex cache on this target: 64-bit hosts only. On the boards its code
+// would pass the Cortex-M0+ image's flash budget, and they have no RAM to spare for it.
+constexpr bool kVertexCacheBuilt = sizeof(void*) >= 8;
 
 class VertexCache {
  public:
@@ -37,6 +42,15 @@ class VertexCache {
   // arena free; none when fewer than kMinEntries fit (then entries() is 0 and the lookups below must
   // not be called). The scene and view must outlive the cache.
   void init(Arena& arena, const Scene& scene, const View& view, uint32_t entries, size_t keep);
+  // The same in a block of memory the caller owns: the largest power of two of entries, at most
+  // `entries`, placed at the end of the `bytes` at `memory` (another structure may grow from the start
+  // until it needs them: then drop()). Returns the bytes taken from the end (0: none, fewer than
+  // kMinEntries fit).
+  size_t init_at_end(void* memory, size_t bytes, const Scene& scene, const View& view, uint32_t entries);
+  // Bytes init_at_end takes for `entries` entries at most, whatever the alignment of the block's end.
+  static size_t end_bytes(uint32_t entries) { return sizeof(Entry) * entries + alignof(Entry) - 1; }
+  // No entries from now on: their memory is the caller's again.
+  void drop() { entries_ = nullptr; }
   // Entries held (0: no cache).
   uint32_t entries() const { return entries_ ? mask_ + 1 : 0; }
 
@@ -65,6 +79,7 @@ class VertexCache {
     return fill(&e, batch, vertex, viewed);
   }
   const Entry& fill(Entry* e, uint32_t batch, uint32_t vertex, bool viewed);
+  void start(const Scene& scene, const View& view, Entry* entries, uint32_t n);
 
   const Scene* scene_ = nullptr;
   const View* view_ = nullptr;

@@ -278,17 +278,6 @@ void view_triangle(const View& view, const Vec3i world[3], ViewTriangle* out) {
   out->unclipped = unclipped;
 }
 
-bool project_unclipped_positions(const View& view, const Vec3i world[3], int32_t x[3], int32_t y[3]) {
-  ViewTriangle t;
-  view_triangle(view, world, &t);
-  if (!t.unclipped) return false;
-  for (int i = 0; i < 3; ++i) {
-    x[i] = int32_t(view.center_x + t.ox[i]);
-    y[i] = int32_t(view.center_y + t.oy[i]);
-  }
-  return true;
-}
-
 int project_triangle(const View& view, const Vec3i world[3], int facing, ScreenTriangle out[kMaxClipTriangles],
                      bool depths) {
   if (facing == 0) return 0;  // seen edge-on: covers nothing

@@ -127,11 +127,15 @@ inline bool put_view_vertex(const ViewVertex& v, int i, ViewTriangle* out) {
 int project_triangle(const View& view, const ViewTriangle& tri, int facing, ScreenTriangle out[kMaxClipTriangles],
                      bool depths = true);
 
-// The screen positions (subpixels) project_triangle gives a triangle it does not clip, before it orders
-// them (area2 > 0) and without depths or weights: a cheap first look for callers that may drop the
-// triangle. False when project_triangle would clip it (a vertex behind the near plane or outside the
-// guard band): then call project_triangle.
-bool project_unclipped_positions(const View& view, const Vec3i world[3], int32_t x[3], int32_t y[3]);
+// The screen positions (subpixels) project_triangle gives a triangle it does not clip (t.unclipped),
+// before it orders them (area2 > 0) and without depths or weights: a cheap first look for callers that
+// may drop the triangle.
+inline void unclipped_positions(const View& view, const ViewTriangle& t, int32_t x[3], int32_t y[3]) {
+  for (int i = 0; i < 3; ++i) {
+    x[i] = int32_t(view.center_x + t.ox[i]);
+    y[i] = int32_t(view.center_y + t.oy[i]);
+  }
+}
 
 // One view-space coordinate (1/16 world unit) of a world point: the world→view row `axis` (Q1.30)
 // dotted with the offset from the eye. |offset| < 2^25, so the dot product stays below 2^56. Rounds

@@ -1,7 +1,7 @@
 // The vertex cache (view/vertex_cache.h): its lookups are vertices_world and view_triangle exactly,
 // whatever its size and the order of lookups; it keeps a vertex until another takes its entry; it takes
-// what the arena has free; and the tiler's frames are the same byte for byte with a cache of any size
-// or none.
+// what the arena has free or the end of a block; and both renderers' frames are the same byte for byte
+// with a cache of any size or none.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -10,6 +10,8 @@
 
 #include "core/arena.h"
 #include "render/render.h"
+#include "scanline/scanline.h"
+#include "texture/pager.h"
 #include "tests/texture/texture_test_util.h"
 #include "tests/tiler/tiler_test_util.h"
 #include "tiler/tiler.h"
@@ -183,6 +185,43 @@ TEST(VertexCache, TakesWhatTheArenaHasFree) {
   }
 }
 
+// init_at_end takes the largest power of two of entries whose bytes fit at the end of the block, none
+// when fewer than kMinEntries fit; its entries lie in the bytes it reports, the block's start is left
+// as it was, its lookups are the direct ones, and after drop() it holds none.
+TEST(VertexCache, TakesTheEndOfABlock) {
+  TwoBatchScene s(5, 30);
+  const ml::View view = make(tiler_test::test_camera(64, 48));
+  for (uint32_t fits : {0u, 63u, 64u, 100u, 256u, 300u}) {
+    for (size_t misalign : {0u, 1u, 3u}) {  // the block's start and end off the entries' alignment
+      const size_t bytes = misalign + 17 + (fits ? VertexCache::end_bytes(fits) : 0);
+      std::vector<uint8_t> mem(bytes + 8, 0xA5);
+      uint8_t* block = mem.data() + misalign;
+      VertexCache cache;
+      const size_t taken = cache.init_at_end(block, bytes, s.scene, view, 256);
+      const uint32_t want = fits < 64 ? 0 : fits >= 256 ? 256 : 64;
+      const std::string where = std::to_string(fits) + " misalign " + std::to_string(misalign);
+      ASSERT_EQ(cache.entries(), want) << where;
+      EXPECT_LE(taken, VertexCache::end_bytes(want ? want : 1)) << where;
+      EXPECT_EQ(taken == 0, want == 0) << where;
+      if (want == 0) continue;
+      EXPECT_GE(taken, want * sizeof(VertexCache::Entry)) << where;
+      for (uint32_t t = 0; t < s.scene.triangle_count; ++t) {
+        const ml::Triangle tri = ml::triangle_at(s.scene, t);
+        ml::Vec3i world[3];
+        ml::ViewTriangle got, expected;
+        cache.view(tri.batch, tri.v, &got);
+        ml::vertices_world(s.scene, tri.batch, tri.v, world);
+        ml::view_triangle(view, world, &expected);
+        expect_same_view(got, expected, where);
+      }
+      for (size_t i = 0; i < misalign + bytes - taken; ++i) ASSERT_EQ(mem[i], 0xA5) << where << " byte " << i;
+      for (size_t i = misalign + bytes; i < mem.size(); ++i) ASSERT_EQ(mem[i], 0xA5) << where << " byte " << i;
+      cache.drop();
+      EXPECT_EQ(cache.entries(), 0u) << where;
+    }
+  }
+}
+
 // ---- the tiler's frames ----------------------------------------------------------------------------
 
 void expect_same_stats(const ml::Stats& a, const ml::Stats& b, const std::string& where) {
@@ -277,6 +316,111 @@ TEST(VertexCacheFrames, EveryCacheSizeGivesTheSameFrame) {
   }
   EXPECT_EQ(frames, 30);
   EXPECT_GE(drawing, 20);
+}
+
+// ---- the scanline renderer's frames ------------------------------------------------------------------
+
+// The free bytes of an arena of `bytes` that the ySortList pass shares with the cache (what the texture
+// pager leaves), and the cache it takes at their end: the largest power of two of entries up to
+// entries_for(vertices) that fits.
+size_t scanline_pass_bytes(const ml::Scene& scene, const ml::RenderOptions& o, size_t bytes) {
+  const bool colour = o.shading != ml::ShadingMode::Ids && o.shading != ml::ShadingMode::Lines;
+  return bytes - (colour ? ml::TexturePager::arena_bytes(scene, o.texture_pool_bytes) : 0);
+}
+uint32_t scanline_pass_entries(const ml::Scene& scene, size_t free) {
+  uint32_t n = VertexCache::entries_for(scene.vertex_count);  // (scenes with a batch that shares vertices)
+  while (n >= VertexCache::kMinEntries && VertexCache::end_bytes(n) > free) n /= 2;
+  return n < VertexCache::kMinEntries ? 0 : n;
+}
+
+// The scanline renderer keeps a vertex cache at the end of its arena (scanline_spare_bytes) for the
+// batches that share their vertices: the frame is the same byte for byte, with the same counts,
+// whether the cache is held through the frame (the spare bytes), dropped when the ySortList reaches it,
+// dropped after the pass or never taken; and its bytes count in the peak while it is held. On the
+// duck (textured, the kind of model the cache is for), the bundled scene and a scene of split pieces,
+// flat, Gouraud, ids and supersampled.
+TEST(VertexCacheFrames, ScanlineFramesAreTheSameWhereverTheCacheGoes) {
+  struct Case {
+    const mlhost::LoadedScene* scene;
+    ml::ShadingMode mode;
+    int aa;
+    int width, height;
+  };
+  const mlhost::LoadedScene& duck = textest::load(textest::duck_model());
+  const mlhost::LoadedScene& bundled = textest::load("");
+  const mlhost::LoadedScene& crossing = crossing_scene();
+  ASSERT_TRUE(duck.scene.info && bundled.scene.info && crossing.scene.info) << duck.name;
+  const Case cases[] = {{&duck, ml::ShadingMode::Flat, 1, 320, 240},    {&duck, ml::ShadingMode::Gouraud, 2, 160, 120},
+                        {&bundled, ml::ShadingMode::Flat, 1, 160, 120}, {&bundled, ml::ShadingMode::Ids, 1, 160, 120},
+                        {&crossing, ml::ShadingMode::Flat, 3, 120, 90}};
+  for (const Case& c : cases) {
+    const ml::Scene& scene = c.scene->scene;
+    ml::RenderOptions o = textest::options(ml::RendererKind::Scanline, c.mode, c.aa);
+    for (double turn : {0.0, 150.0}) {
+      const ml::Camera cam = textest::camera_for(*c.scene, c.width, c.height, turn);
+      const size_t need = ml::render_arena_bytes(scene, cam, o), spare = ml::render_spare_bytes(scene, cam, o);
+      ASSERT_GT(need, 0u);
+      EXPECT_EQ(spare, ml::scanline_spare_bytes(scene));
+      if (c.scene != &crossing) {  // meshes: a vertex used by several triangles
+        EXPECT_EQ(spare, VertexCache::end_bytes(VertexCache::entries_for(scene.vertex_count)));
+      }
+      const std::string where = c.scene->name + " mode " + std::to_string(int(c.mode)) + " turn " + std::to_string(turn);
+      const textest::Frame least = textest::render(scene, cam, o, need);
+      ASSERT_TRUE(least.status.ok()) << where << ": " << least.status.message;
+      EXPECT_LE(least.stats.peak_arena_bytes, need) << where;
+      // An arena where the whole cache fits at first and the list reaches it on the way: the pieces'
+      // 8-byte entries do not fit beside it (the bundled scene, whose least arena holds less than the
+      // whole cache; the textured duck's holds it and all its pieces).
+      const size_t whole = spare;
+      const size_t free = scanline_pass_bytes(scene, o, need);
+      const size_t halfway = whole > free ? whole - free + 4 * size_t(least.stats.n) : 0;
+      if (c.scene == &bundled) {
+        ASSERT_GT(halfway, 0u) << where;
+        const size_t free_then = scanline_pass_bytes(scene, o, need + halfway);
+        ASSERT_EQ(scanline_pass_entries(scene, free_then), VertexCache::entries_for(scene.vertex_count)) << where;
+        EXPECT_LT((free_then - whole) / 8, least.stats.n) << where;
+      }
+      for (size_t more : {spare, spare / 2, spare / 8, size_t(64), halfway}) {
+        const textest::Frame f = textest::render(scene, cam, o, need + more);
+        const std::string at = where + " spare " + std::to_string(more);
+        ASSERT_TRUE(f.status.ok()) << at << ": " << f.status.message;
+        ASSERT_TRUE(f.contract) << at << ": " << f.contract_error;
+        EXPECT_EQ(f.pixels, least.pixels) << at;
+        expect_same_stats(f.stats, least.stats, at);
+        EXPECT_EQ(f.stats.n, least.stats.n) << at;
+        EXPECT_EQ(f.stats.m_max, least.stats.m_max) << at;
+        EXPECT_LE(f.stats.peak_arena_bytes, need + more) << at;
+        if (more == spare && spare > 0) {  // held through the frame: the frame's arrays and the whole cache
+          const size_t cache = VertexCache::entries_for(scene.vertex_count) * sizeof(VertexCache::Entry);
+          EXPECT_GE(f.stats.peak_arena_bytes + 64, need + cache) << at;
+        }
+      }
+    }
+  }
+}
+
+// A scene whose batches do not share their vertices (office(8)'s boxes: a vertex per corner and face, 24
+// for 12 triangles) takes no cache and asks for no spare bytes: its look-ups would miss two in three.
+TEST(VertexCacheFrames, ScanlineTakesNoCacheForBatchesThatShareNoVertices) {
+  ml::CompileResult office = ml::build_office_scene(2);
+  ASSERT_TRUE(office.ok) << office.error;
+  ml::Scene scene;
+  ASSERT_TRUE(ml::read_scene(office.blob.data(), office.blob.size, &scene).ok());
+  for (uint32_t b = 0; b < scene.batch_count; ++b) EXPECT_GT(scene.batches[b].vertex_count, scene.batches[b].triangle_count);
+  EXPECT_EQ(ml::scanline_spare_bytes(scene), 0u);
+  const mlhost::LoadedScene& bundled = textest::load("");
+  ASSERT_TRUE(bundled.scene.info);
+  EXPECT_GT(ml::scanline_spare_bytes(bundled.scene), 0u);
+  // The same peak with a larger arena: nothing taken from it.
+  ml::Camera cam = ml::frame_sphere(ml::Vec3i{scene.info->sphere_center[0], scene.info->sphere_center[1],
+                                              scene.info->sphere_center[2]},
+                                    scene.info->sphere_radius, 160, 120, 45 << 16);
+  const ml::RenderOptions o = textest::options(ml::RendererKind::Scanline, ml::ShadingMode::Flat);
+  const size_t need = ml::render_arena_bytes(scene, cam, o);
+  const textest::Frame least = textest::render(scene, cam, o, need), more = textest::render(scene, cam, o, need + 65536);
+  ASSERT_TRUE(least.status.ok() && more.status.ok());
+  EXPECT_EQ(more.pixels, least.pixels);
+  EXPECT_EQ(more.stats.peak_arena_bytes, least.stats.peak_arena_bytes);
 }
 
 }  // namespace
