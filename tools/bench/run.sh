@@ -85,8 +85,8 @@ measure() {
   fi
   split_of["$name"]=$split
   all_ir["$name.$label.$size.$aa"]=$ir
-  if [ "$renderer" = scanline ]; then
-    arena_bound["$name.$aa"]="$peak $((16 * n + 64 * mmax + 16 * w))"
+  if [ "$renderer" = scanline ]; then  # the least arena (render_arena_bytes), the peak with the spare bytes, the bound
+    arena_bound["$name.$aa"]="$(field arena_bytes "$line") $peak $((16 * n + 64 * mmax + 16 * w))"
   fi
   local tris
   tris=$(field triangles "$line")
@@ -137,7 +137,8 @@ for name in engine tessellated default duck; do
   notes+=("- $name, scanline 3x3 / 1x1: $(ratio "${all_ir[$name.scanline.320x240.3]:-}" "$one"); 4x4 / 1x1: $(ratio "${all_ir[$name.scanline.320x240.4]:-}" "$one")")
   for aa in 1 3 4; do
     b=${arena_bound[$name.$aa]:-}
-    [ -n "$b" ] && notes+=("- $name, scanline ${aa}x${aa}: peak arena ${b% *} bytes against 16 n + 64 m_max + 16 width = ${b#* }")
+    read -r least peak bound <<<"$b"
+    [ -n "$b" ] && notes+=("- $name, scanline ${aa}x${aa}: least arena $least bytes (peak $peak with the spare bytes' vertex cache) against 16 n + 64 m_max + 16 width = $bound")
   done
 done
 notes+=("- engine 320x240, scanline 1x1 / tiler: $(ratio "${all_ir[engine.scanline.320x240.1]:-}" "${all_ir[engine.tiler.320x240.1]:-}")")
