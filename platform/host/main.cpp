@@ -103,9 +103,10 @@ const char* const kRenderHelp =
     "  --work OUT.png              Greene's work image: pyramid cells visited per pixel, log-scale\n"
     "                              heatmap (tiler only)\n"
     "  --stats                     print one JSON object of frame statistics on stdout\n"
-    "  --arena BYTES               use an arena of this size instead of the need plus the tiler's spare\n"
-    "                              bytes: bands rendered at once, band plan, vertex cache (the same\n"
-    "                              image either way)\n"
+    "  --arena BYTES               use an arena of this size instead of the need plus the renderer's\n"
+    "                              spare bytes (info prints both): the tiler's bands rendered at once,\n"
+    "                              band plan and vertex cache, the scanline renderer's vertex cache\n"
+    "                              (the same image either way)\n"
     "  --texture-pool BYTES|all    texture pool in the arena (default all: every texture fits; smaller\n"
     "                              pools evict and reload, below the largest texture some fall back)\n"
     "  --texture-source blob|file  texels from the scene in memory (default) or read from the .mls file\n"
@@ -465,8 +466,11 @@ int cmd_info(int argc, char** argv) {
     if (pool.minimum < pool.desired) {  // textures: the smallest arena that draws every texture too
       o.texture_pool_bytes = pool.minimum;
       printf(" (%zu with the minimum texture pool)", ml::render_arena_bytes(scene, base, o));
+      o.texture_pool_bytes = ml::kTexturePoolAll;
     }
     printf("\n");
+    printf("spare bytes (%s, %dx%d, aa %d): %zu\n", renderer_name(k), width, height, o.aa,
+           ml::render_spare_bytes(scene, base, o));
   }
   return 0;
 }

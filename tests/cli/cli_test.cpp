@@ -9,6 +9,7 @@
 
 #include "platform/host/png_io.h"
 #include "tests/cli/cli_runner.h"
+#include "view/vertex_cache.h"
 
 namespace {
 
@@ -119,8 +120,13 @@ TEST_F(CliTemp, CompileAndInfoOnTheEngine) {
   // The blob on disk and the in-memory compile describe the same scene.
   EXPECT_NE(from_glb.out.find("triangles: " + std::to_string(triangles) + "\n"), std::string::npos) << from_glb.out;
   for (const char* key : {"nodes: ", "materials: ", "bounds (world units)", "bounds (glTF units)", "bsp: ",
-                          "arena bytes (tiler, 160x120", "arena bytes (scanline, 160x120"})
+                          "arena bytes (tiler, 160x120", "arena bytes (scanline, 160x120", "spare bytes (tiler, 160x120",
+                          "spare bytes (scanline, 160x120"})
     EXPECT_NE(from_mls.out.find(key), std::string::npos) << key << " in " << from_mls.out;
+  // The spare bytes are render_spare_bytes: on a 64-bit host the scanline renderer's vertex cache for the
+  // engine's meshes (1,024 entries), none on a 32-bit one.
+  const long spare = std::stol(after(from_mls.out, "spare bytes (scanline, 160x120, aa 1): "));
+  EXPECT_EQ(spare, sizeof(void*) >= 8 ? long(ml::VertexCache::end_bytes(ml::VertexCache::kMaxEntries)) : 0L) << from_mls.out;
   const auto blob = clitest::read_bytes(path("engine.mls"));
   EXPECT_NE(from_mls.out.find("(" + std::to_string(blob.size()) + " bytes)"), std::string::npos) << from_mls.out;
 }
@@ -201,12 +207,13 @@ TEST_F(CliTemp, ArenaTooSmallNamesTheBytesNeeded) {
   EXPECT_EQ(ok.exit_code, 0) << ok.describe();
 }
 
-// Without --arena the tiler gets its spare bytes (render_spare_bytes): its peak holds them (on a 64-bit
-// host every band rendered at once, and the triangles' facing bits), and the picture is the one the
-// least arena gives.
-TEST_F(CliTemp, DefaultArenaCarriesTheTilerSpareBytesWithTheSameImage) {
-  for (const char* rows : {"16", "0"}) {
-    const std::vector<std::string> common{"render", "--size", "160x120", "--band-rows", rows, "--stats"};
+// Without --arena a renderer gets its spare bytes (render_spare_bytes): its peak holds them (on a 64-bit
+// host the tiler's bands rendered at once and the triangles' facing bits, the scanline renderer's
+// vertex cache), and the picture is the one the least arena gives.
+TEST_F(CliTemp, DefaultArenaCarriesTheSpareBytesWithTheSameImage) {
+  const std::pair<const char*, const char*> cases[] = {{"tiler", "16"}, {"tiler", "0"}, {"scanline", "16"}, {"scanline", "0"}};
+  for (const auto& [renderer, rows] : cases) {
+    const std::vector<std::string> common{"render", "--renderer", renderer, "--size", "160x120", "--band-rows", rows, "--stats"};
     // The least arena, from the error a too small one gives.
     std::vector<std::string> tiny = common;
     tiny.insert(tiny.end(), {"--arena", "64", "-o", path("tiny.png")});
@@ -227,7 +234,7 @@ TEST_F(CliTemp, DefaultArenaCarriesTheTilerSpareBytesWithTheSameImage) {
     ASSERT_EQ(mlhost::read_png(path("least.png"), &wb, &hb, &pb, false), "");
     EXPECT_EQ(wa, 160);
     EXPECT_EQ(ha, 120);
-    EXPECT_TRUE(pa == pb) << "band rows " << rows;
+    EXPECT_TRUE(pa == pb) << renderer << " band rows " << rows;
   }
 }
 
