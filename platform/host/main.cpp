@@ -464,9 +464,9 @@ int cmd_info(int argc, char** argv) {
     printf("arena bytes (%s, %dx%d, aa %d): %zu", renderer_name(k), width, height, o.aa, bytes);
     const ml::TexturePoolNeeds pool = ml::texture_pool_needs(scene);
     if (pool.minimum < pool.desired) {  // textures: the smallest arena that draws every texture too
-      o.texture_pool_bytes = pool.minimum;
-      printf(" (%zu with the minimum texture pool)", ml::render_arena_bytes(scene, base, o));
-      o.texture_pool_bytes = ml::kTexturePoolAll;
+      ml::RenderOptions least_pool = o;
+      least_pool.texture_pool_bytes = pool.minimum;
+      printf(" (%zu with the minimum texture pool)", ml::render_arena_bytes(scene, base, least_pool));
     }
     printf("\n");
     printf("spare bytes (%s, %dx%d, aa %d): %zu\n", renderer_name(k), width, height, o.aa,

@@ -1270,7 +1270,7 @@ size_t scanline_arena_bytes(const Scene& scene, const Camera& camera, const Rend
 
 size_t scanline_spare_bytes(const Scene& scene) {
   const uint32_t entries = cache_entries(scene);
-  return entries ? VertexCache::end_bytes(entries) : 0;
+  return entries ? VertexCache::arena_bytes(entries) : 0;
 }
 
 Status scanline_render(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,

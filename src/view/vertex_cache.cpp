@@ -27,7 +27,7 @@ void VertexCache::init(Arena& arena, const Scene& scene, const View& view, uint3
 
 size_t VertexCache::init_at_end(void* memory, size_t bytes, const Scene& scene, const View& view, uint32_t entries) {
   uint32_t n = entries;
-  while (n >= kMinEntries && bytes < end_bytes(n)) n /= 2;
+  while (n >= kMinEntries && bytes < arena_bytes(n)) n /= 2;
   if (n < kMinEntries) {
     start(scene, view, nullptr, 0);
     return 0;

@@ -35,8 +35,9 @@ class VertexCache {
   // Entries a scene of `vertices` vertices can use: the smallest power of two holding them all, at
   // least kMinEntries and at most kMaxEntries.
   static uint32_t entries_for(uint32_t vertices);
-  // Arena bytes of `entries` entries with their worst-case alignment.
-  static size_t arena_bytes(uint32_t entries) { return arena_worst_case(sizeof(Entry) * entries, 4); }
+  // Bytes of `entries` entries with their worst-case alignment: from an arena (init) or at the end of a
+  // block (init_at_end).
+  static size_t arena_bytes(uint32_t entries) { return arena_worst_case(sizeof(Entry) * entries, alignof(Entry)); }
 
   // Takes the largest power of two of entries, at most `entries`, whose bytes leave `keep` bytes of the
   // arena free; none when fewer than kMinEntries fit (then entries() is 0 and the lookups below must
@@ -47,8 +48,6 @@ class VertexCache {
   // until it needs them: then drop()). Returns the bytes taken from the end (0: none, fewer than
   // kMinEntries fit).
   size_t init_at_end(void* memory, size_t bytes, const Scene& scene, const View& view, uint32_t entries);
-  // Bytes init_at_end takes for `entries` entries at most, whatever the alignment of the block's end.
-  static size_t end_bytes(uint32_t entries) { return sizeof(Entry) * entries + alignof(Entry) - 1; }
   // No entries from now on: their memory is the caller's again.
   void drop() { entries_ = nullptr; }
   // Entries held (0: no cache).

@@ -126,7 +126,7 @@ TEST_F(CliTemp, CompileAndInfoOnTheEngine) {
   // The spare bytes are render_spare_bytes: on a 64-bit host the scanline renderer's vertex cache for the
   // engine's meshes (1,024 entries), none on a 32-bit one.
   const long spare = std::stol(after(from_mls.out, "spare bytes (scanline, 160x120, aa 1): "));
-  EXPECT_EQ(spare, sizeof(void*) >= 8 ? long(ml::VertexCache::end_bytes(ml::VertexCache::kMaxEntries)) : 0L) << from_mls.out;
+  EXPECT_EQ(spare, sizeof(void*) >= 8 ? long(ml::VertexCache::arena_bytes(ml::VertexCache::kMaxEntries)) : 0L) << from_mls.out;
   const auto blob = clitest::read_bytes(path("engine.mls"));
   EXPECT_NE(from_mls.out.find("(" + std::to_string(blob.size()) + " bytes)"), std::string::npos) << from_mls.out;
 }

@@ -193,7 +193,7 @@ TEST(VertexCache, TakesTheEndOfABlock) {
   const ml::View view = make(tiler_test::test_camera(64, 48));
   for (uint32_t fits : {0u, 63u, 64u, 100u, 256u, 300u}) {
     for (size_t misalign : {0u, 1u, 3u}) {  // the block's start and end off the entries' alignment
-      const size_t bytes = misalign + 17 + (fits ? VertexCache::end_bytes(fits) : 0);
+      const size_t bytes = misalign + 17 + (fits ? VertexCache::arena_bytes(fits) : 0);
       std::vector<uint8_t> mem(bytes + 8, 0xA5);
       uint8_t* block = mem.data() + misalign;
       VertexCache cache;
@@ -201,7 +201,7 @@ TEST(VertexCache, TakesTheEndOfABlock) {
       const uint32_t want = fits < 64 ? 0 : fits >= 256 ? 256 : 64;
       const std::string where = std::to_string(fits) + " misalign " + std::to_string(misalign);
       ASSERT_EQ(cache.entries(), want) << where;
-      EXPECT_LE(taken, VertexCache::end_bytes(want ? want : 1)) << where;
+      EXPECT_LE(taken, VertexCache::arena_bytes(want ? want : 1)) << where;
       EXPECT_EQ(taken == 0, want == 0) << where;
       if (want == 0) continue;
       EXPECT_GE(taken, want * sizeof(VertexCache::Entry)) << where;
@@ -329,7 +329,7 @@ size_t scanline_pass_bytes(const ml::Scene& scene, const ml::RenderOptions& o, s
 }
 uint32_t scanline_pass_entries(const ml::Scene& scene, size_t free) {
   uint32_t n = VertexCache::entries_for(scene.vertex_count);  // (scenes with a batch that shares vertices)
-  while (n >= VertexCache::kMinEntries && VertexCache::end_bytes(n) > free) n /= 2;
+  while (n >= VertexCache::kMinEntries && VertexCache::arena_bytes(n) > free) n /= 2;
   return n < VertexCache::kMinEntries ? 0 : n;
 }
 
@@ -362,7 +362,7 @@ TEST(VertexCacheFrames, ScanlineFramesAreTheSameWhereverTheCacheGoes) {
       ASSERT_GT(need, 0u);
       EXPECT_EQ(spare, ml::scanline_spare_bytes(scene));
       if (c.scene != &crossing) {  // meshes: a vertex used by several triangles
-        EXPECT_EQ(spare, VertexCache::end_bytes(VertexCache::entries_for(scene.vertex_count)));
+        EXPECT_EQ(spare, VertexCache::arena_bytes(VertexCache::entries_for(scene.vertex_count)));
       }
       const std::string where = c.scene->name + " mode " + std::to_string(int(c.mode)) + " turn " + std::to_string(turn);
       const textest::Frame least = textest::render(scene, cam, o, need);
