@@ -60,9 +60,12 @@ struct ActiveTri {
   uint8_t weight_shift;   // kWeightsReady: the weights' numerators and divisor shift (prepare_weights)
   uint8_t pad;
   uint32_t weight_recip;  // kWeightsReady: the divisor's reciprocal (prepare_weights), for sample_weights
-  uint32_t pad2;
+  int32_t edge_row;       // the sample row edge_v is at (start_span, then the last row stepped)
+  // Edge i's function times den at column edge_x[i] of row edge_row, the fill rule folded in (E < 0
+  // outside): a row later it is one addition away (step_span).
+  int64_t edge_v[3];
 };
-static_assert(sizeof(ActiveTri) == 104, "ActiveTri layout");
+static_assert(sizeof(ActiveTri) == 128, "ActiveTri layout");
 
 constexpr uint16_t kNoSpan = 0xFFFF;
 
@@ -77,13 +80,16 @@ bool lattice_box(const ScreenTriangle& t, const Lattice& lat, LatticeBox* b);
 // The reference: one division per edge. The renderer steps spans with step_span instead.
 bool row_span(const ActiveTri& t, const Lattice& lat, int32_t y, int32_t* min_x, int32_t* max_x);
 
-// Starts span stepping for a piece whose box_x0/box_x1 are set (no division).
-void start_span(ActiveTri* t);
+// Starts span stepping at sample row y for a piece whose vertices and box_x0/box_x1 are set (no
+// division): each edge's boundary column at a side of the box and its function there.
+void start_span(ActiveTri* t, const Lattice& lat, int32_t y);
 
-// The same span as row_span, found from the previous row's edge boundaries (edge_x) by walking the
-// exact edge functions sample by sample: no division. Rows must be stepped in increasing order (any
-// gaps allowed); the walk costs the boundaries' movement, at most the box width per edge and row.
-bool step_span(ActiveTri* t, const Lattice& lat, int32_t y, int32_t* min_x, int32_t* max_x);
+// The same span as row_span, found from the previous row's edge boundaries (edge_x, edge_v) by walking
+// the exact edge functions sample by sample: no division, and each edge's function carried from the
+// last row stepped by one product (one row: b 256). Rows must be stepped in increasing order from
+// start_span's (any gaps allowed); the walk costs the boundaries' movement, at most the box width per
+// edge and row.
+bool step_span(ActiveTri* t, int32_t y, int32_t* min_x, int32_t* max_x);
 
 // Depth plane of a piece (vertices vx/vy in ActiveTri, depths d[3]): sets z_row for row 0, gx, gy.
 void depth_plane(ActiveTri* t, const uint32_t depth[3], const Lattice& lat);

@@ -95,26 +95,49 @@ bool row_span(const ActiveTri& t, const Lattice& lat, int32_t y, int32_t* min_x,
   return true;
 }
 
-void start_span(ActiveTri* t) {
+// Pixels [x0, x1] of a row set to c. On 64-bit hosts two at a time (a row's runs and gaps between
+// pieces are most of its samples); the boards store one at a time (no unaligned 64-bit stores there).
+static inline void fill_pixels(Pixel* row, int32_t x0, int32_t x1, Pixel c) {
+#if UINTPTR_MAX > 0xFFFFFFFFu
+  const uint64_t two = c | (uint64_t(c) << 32);
+  int32_t x = x0;
+  for (; x < x1; x += 2) memcpy(row + x, &two, sizeof two);
+  if (x == x1) row[x] = c;
+#else
+  for (int32_t x = x0; x <= x1; ++x) row[x] = c;
+#endif
+}
+
+// Edge p -> q's function times den at column x of sample row `row` (256 Y + oy), the fill rule folded
+// in: lattice_row(edge_function(p, q)) at X, written relative to p, which takes fewer products:
+// a (256 X + ox - den p.x) + b (row - den p.y), minus den off a top-left edge (edge_plane's a and b).
+static int64_t edge_value(int32_t px, int32_t py, int32_t qx, int32_t qy, const Lattice& lat, int64_t row, int32_t x) {
+  const EdgeFunction plane = edge_plane(px, py, qx, qy);
+  const int64_t v = plane.a * (int64_t(x) * kSubpixelOne + lat.ox - int64_t(lat.den) * px) +
+                    plane.b * (row - int64_t(lat.den) * py);
+  return is_top_left(plane.a, plane.b) ? v : v - lat.den;
+}
+
+void start_span(ActiveTri* t, const Lattice& lat, int32_t y) {
+  const int64_t row = int64_t(y) * kSubpixelOne + lat.oy;
   for (int i = 0; i < 3; ++i) {
     const int j = i == 2 ? 0 : i + 1;
     // A left edge (E grows with X) starts at the box's left side, a right edge at its right side.
     t->edge_x[i] = int16_t(t->vy[i] > t->vy[j] ? t->box_x0 : t->box_x1);
+    t->edge_v[i] = edge_value(t->vx[i], t->vy[i], t->vx[j], t->vy[j], lat, row, t->edge_x[i]);
   }
+  t->edge_row = y;
 }
 
-// Edge p -> q of step_span: walks the edge's boundary column *col to this row's crossing and narrows
-// [*left, *right]; false when the edge is horizontal and the row lies outside it. row = 256 Y + oy.
-// E*den at column X is lattice_row(edge_function(p, q)) at X, written relative to p, which takes
-// fewer products: a (256 X + ox - den p.x) + b (row - den p.y), minus den off a top-left edge
-// (edge_plane's a and b; its c, unused, costs nothing inline).
-static inline bool step_edge(int32_t px, int32_t py, int32_t qx, int32_t qy, const Lattice& lat, int64_t row,
-                             int32_t lo, int32_t hi, int16_t* col, int32_t* left, int32_t* right) {
-  const EdgeFunction plane = edge_plane(px, py, qx, qy);
-  const int64_t a = plane.a, b = plane.b, k = a * kSubpixelOne;
+// Edge p -> q of step_span: carries its function *value at boundary column *col `rows` rows down,
+// walks the column to this row's crossing and narrows [*left, *right]; false when the edge is
+// horizontal and the row lies outside it.
+static inline bool step_edge(int32_t px, int32_t py, int32_t qx, int32_t qy, int64_t rows, int32_t lo, int32_t hi,
+                             int16_t* col, int64_t* value, int32_t* left, int32_t* right) {
+  const int64_t a = int64_t(py) - qy, b = int64_t(qx) - px;  // edge_plane's
+  const int64_t k = a * kSubpixelOne;
   int32_t x = *col;
-  int64_t v = a * (int64_t(x) * kSubpixelOne + lat.ox - int64_t(lat.den) * px) + b * (row - int64_t(lat.den) * py);
-  if (!is_top_left(a, b)) v -= lat.den;
+  int64_t v = *value + b * kSubpixelOne * rows;
   if (k > 0) {
     // Left edge: the first column in [lo, hi + 1] from which E >= 0.
     while (x > lo && v - k >= 0) { --x; v -= k; }
@@ -126,25 +149,37 @@ static inline bool step_edge(int32_t px, int32_t py, int32_t qx, int32_t qy, con
     while (x >= lo && v < 0) { --x; v -= k; }
     *right = min_of(*right, x);
   } else if (v < 0) {
+    *value = v;
     return false;  // horizontal edge with the row outside it
   }
   *col = int16_t(x);
+  *value = v;
   return true;
 }
 
-bool step_span(ActiveTri* t, const Lattice& lat, int32_t y, int32_t* min_x, int32_t* max_x) {
+// step_span inline in the renderer's row loop on 64-bit hosts (the call and its saved registers cost
+// about a sixth of a stepped span); the boards keep it out of line (flash).
+#if UINTPTR_MAX > 0xFFFFFFFFu
+#define ML_SPAN_STEP __attribute__((always_inline)) inline
+#else
+#define ML_SPAN_STEP inline
+#endif
+static ML_SPAN_STEP bool stepped_span(ActiveTri* t, int32_t y, int32_t* min_x, int32_t* max_x) {
   const int32_t lo = t->box_x0, hi = t->box_x1;
-  const int64_t row = int64_t(y) * kSubpixelOne + lat.oy;
+  const int64_t rows = y - t->edge_row;
+  t->edge_row = y;
   int32_t left = lo, right = hi;
   // Every edge is stepped, even past an empty one, so that each keeps its column for the next row.
-  const bool e0 = step_edge(t->vx[0], t->vy[0], t->vx[1], t->vy[1], lat, row, lo, hi, &t->edge_x[0], &left, &right);
-  const bool e1 = step_edge(t->vx[1], t->vy[1], t->vx[2], t->vy[2], lat, row, lo, hi, &t->edge_x[1], &left, &right);
-  const bool e2 = step_edge(t->vx[2], t->vy[2], t->vx[0], t->vy[0], lat, row, lo, hi, &t->edge_x[2], &left, &right);
+  const bool e0 = step_edge(t->vx[0], t->vy[0], t->vx[1], t->vy[1], rows, lo, hi, &t->edge_x[0], &t->edge_v[0], &left, &right);
+  const bool e1 = step_edge(t->vx[1], t->vy[1], t->vx[2], t->vy[2], rows, lo, hi, &t->edge_x[1], &t->edge_v[1], &left, &right);
+  const bool e2 = step_edge(t->vx[2], t->vy[2], t->vx[0], t->vy[0], rows, lo, hi, &t->edge_x[2], &t->edge_v[2], &left, &right);
   if (!(e0 && e1 && e2) || left > right) return false;
   *min_x = left;
   *max_x = right;
   return true;
 }
+
+bool step_span(ActiveTri* t, int32_t y, int32_t* min_x, int32_t* max_x) { return stepped_span(t, y, min_x, max_x); }
 
 // The plane (no fill rule) of the edge opposite vertex j, v_{j+1} -> v_{j+2}: vertex j's barycentric
 // weight times area2.
@@ -610,7 +645,7 @@ struct Renderer {
     lattice_box(t, s.lat, &box);
     a.box_x0 = uint16_t(box.x0);
     a.box_x1 = uint16_t(box.x1);
-    start_span(&a);
+    start_span(&a, s.lat, y);
     // Unclipped pieces keep the original vertices (possibly reordered): colours can wait until the
     // first shading call. Clipped pieces blend vertex colours by their weights now.
     uint8_t perm = 0;
@@ -813,7 +848,7 @@ struct Renderer {
   // Samples [x0, x1] of the current row all have colour c (x0 is the next sample in order).
   void emit_run(int32_t x0, int32_t x1, Pixel c) {
     if (!s.accumulate) {
-      for (int32_t x = x0; x <= x1; ++x) keep_surface[x] = c;
+      fill_pixels(keep_surface, x0, x1, c);
       return;
     }
     if (c != last_colour) { last_colour = c; last_packed = pack(c); }  // runs of one colour are common
@@ -917,11 +952,22 @@ struct Renderer {
   }
 
   // Samples [x0, x1] of the row where opaque piece `a` is the only active span (the common case):
-  // no nearest-surface search, the same per-sample results as the general sweep.
+  // no nearest-surface search, the same per-sample results as the general sweep. The common run
+  // inline (one sample a pixel, an untextured piece of one colour whose colours are made); the others
+  // out of line (other_run), so that the common one pays for no saved registers or stack frame.
   void single_run(ActiveTri& a, int32_t x0, int32_t x1, int32_t y) {
     stats->geometry_samples += uint64_t(x1 - x0 + 1);
     mark_drawn(a);
     a.z_run += a.gx * uint64_t(int64_t(x1 - x0));  // as if stepped sample by sample
+    if (!s.accumulate && opt->shading != ShadingMode::Ids && (a.flags & (kColorsReady | kSmooth)) == kColorsReady &&
+        !textured(slot_of(a))) {
+      stats->shading_calls += uint64_t(x1 - x0 + 1);  // shade()'s answer, counted as its calls
+      fill_pixels(keep_surface, x0, x1, a.color[0]);
+      return;
+    }
+    other_run(a, x0, x1, y);
+  }
+  [[gnu::noinline]] void other_run(ActiveTri& a, int32_t x0, int32_t x1, int32_t y) {
     if (opt->shading == ShadingMode::Ids) {
       for (int32_t x = x0; x <= x1; ++x) keep_surface[x] = a.id + 1;
       return;
@@ -1174,7 +1220,7 @@ struct Renderer {
       ActiveTri& a = act[slot];
       const bool had = a.min_x != kNoSpan;
       int32_t x0, x1;
-      if (!step_span(&a, s.lat, y, &x0, &x1)) {
+      if (!stepped_span(&a, y, &x0, &x1)) {
         a.min_x = kNoSpan;
         a.max_x = 0;
         xact[live - 1 - none++] = slot;

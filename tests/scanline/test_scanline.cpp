@@ -1007,7 +1007,8 @@ ml::ScreenTriangle random_piece(std::mt19937& rng, int it, int width, int height
   }
 }
 
-ml::scan::ActiveTri active_from(const ml::ScreenTriangle& t, const ml::scan::LatticeBox& box) {
+ml::scan::ActiveTri active_from(const ml::ScreenTriangle& t, const ml::scan::LatticeBox& box,
+                                const ml::scan::Lattice& lat) {
   ml::scan::ActiveTri a{};
   for (int k = 0; k < 3; ++k) {
     a.vx[k] = t.v[k].x;
@@ -1015,7 +1016,7 @@ ml::scan::ActiveTri active_from(const ml::ScreenTriangle& t, const ml::scan::Lat
   }
   a.box_x0 = uint16_t(box.x0);
   a.box_x1 = uint16_t(box.x1);
-  ml::scan::start_span(&a);
+  ml::scan::start_span(&a, lat, box.y0);
   return a;
 }
 
@@ -1034,12 +1035,12 @@ TEST(ScanlineSpans, SteppedSpansEqualDividedSpansAndViewCoverage) {
     const ml::ScreenTriangle t = random_piece(rng, it, width, height, aa);
     ml::scan::LatticeBox box;
     if (!ml::scan::lattice_box(t, lat, &box)) continue;
-    ml::scan::ActiveTri a = active_from(t, box);
+    ml::scan::ActiveTri a = active_from(t, box, lat);
     ml::TriangleSetup setup;
     ml::setup_triangle(t, width, height, &setup);
     for (int32_t y = box.y0; y <= box.y1; y += (it % 5 == 0) ? 1 + int32_t(rng() % 4) : 1) {
       int32_t s0 = -1, s1 = -2, d0 = -1, d1 = -2;
-      const bool stepped = ml::scan::step_span(&a, lat, y, &s0, &s1);
+      const bool stepped = ml::scan::step_span(&a, y, &s0, &s1);
       const bool divided = ml::scan::row_span(a, lat, y, &d0, &d1);
       const bool divided_in_box = divided && std::max(d0, box.x0) <= std::min(d1, box.x1);
       ASSERT_EQ(stepped, divided_in_box) << "it " << it << " row " << y;
@@ -1076,7 +1077,7 @@ TEST(ScanlineMath, WeightsByReciprocalEqualWeightsByDivision) {
     const ml::ScreenTriangle t = random_piece(rng, it, width, height, aa);
     ml::scan::LatticeBox box;
     if (!ml::scan::lattice_box(t, lat, &box)) continue;
-    ml::scan::ActiveTri a = active_from(t, box);
+    ml::scan::ActiveTri a = active_from(t, box, lat);
     ml::scan::prepare_weights(&a, lat);
     for (int32_t y = box.y0; y <= box.y1; ++y) {
       int32_t x0, x1;
