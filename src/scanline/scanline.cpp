@@ -959,11 +959,13 @@ struct Renderer {
     stats->geometry_samples += uint64_t(x1 - x0 + 1);
     mark_drawn(a);
     a.z_run += a.gx * uint64_t(int64_t(x1 - x0));  // as if stepped sample by sample
-    if (!s.accumulate && opt->shading != ShadingMode::Ids && (a.flags & (kColorsReady | kSmooth)) == kColorsReady &&
-        !textured(slot_of(a))) {
-      stats->shading_calls += uint64_t(x1 - x0 + 1);  // shade()'s answer, counted as its calls
-      fill_pixels(keep_surface, x0, x1, a.color[0]);
-      return;
+    if (opt->shading != ShadingMode::Ids && !textured(slot_of(a))) {
+      if (!s.accumulate && (a.flags & (kColorsReady | kSmooth)) == kColorsReady) {
+        stats->shading_calls += uint64_t(x1 - x0 + 1);  // shade()'s answer, counted as its calls
+        fill_pixels(keep_surface, x0, x1, a.color[0]);
+        return;
+      }
+      if (s.accumulate && !varying) return single_run_constant(a, x0, x1);
     }
     other_run(a, x0, x1, y);
   }
@@ -1000,9 +1002,8 @@ struct Renderer {
     uint32_t* const surface = keep_surface;
     uint32_t calls = 0;  // shade(): the colour is a.color[0]
     for (int32_t c = min_of(x0 / q, last); c <= c1; ++c) {
-      if (surface[c] == key) continue;
+      calls += surface[c] != key;
       surface[c] = key;
-      ++calls;
     }
     stats->shading_calls += calls;
     emit_run(x0, x1, a.color[0]);

@@ -104,9 +104,22 @@ inline uint64_t mul_add3_div_round_low_portable(const int64_t a[3], const int64_
   return wide_div_round_low(n, d);
 }
 
-// Fast path where the compiler has a 128-bit integer (x86-64, AArch64); same results.
+// Fast path where the compiler has a 128-bit integer (x86-64, AArch64); same results. When the sum
+// fits int64 and d < 2^(62 - shift) (a piece's depth steps: sums below 2^58, d = area2 den), two
+// 64-bit divisions give it: floor((|N| 2^s + h) / d) = floor(|N| / d) 2^s + floor((r 2^s + h) / d)
+// for |N| = floor(|N| / d) d + r, h = floor(d / 2) (r 2^s + h < 2^63), the first term taken modulo
+// 2^64 as the quotient's low bits are. Else (a plane's value at sample (0, 0), whose sum reaches
+// 2^76) 128-bit arithmetic and its library division.
 #if defined(__SIZEOF_INT128__) && !defined(ML_PORTABLE_WIDE)
 inline uint64_t mul_add3_div_round_low(const int64_t a[3], const int64_t b[3], int shift, int64_t d) {
+  int64_t p[3], sum;
+  if (!__builtin_mul_overflow(a[0], b[0], &p[0]) && !__builtin_mul_overflow(a[1], b[1], &p[1]) &&
+      !__builtin_mul_overflow(a[2], b[2], &p[2]) && !__builtin_add_overflow(p[0], p[1], &sum) &&
+      !__builtin_add_overflow(sum, p[2], &sum) && shift < 62 && d < (int64_t(1) << (62 - shift))) {
+    const uint64_t m = magnitude(sum), ud = uint64_t(d);
+    const uint64_t q = ((m / ud) << shift) + (((m % ud) << shift) + ud / 2) / ud;
+    return sum < 0 ? uint64_t(0) - q : q;
+  }
   __int128 n = 0;
   for (int i = 0; i < 3; ++i) n += static_cast<__int128>(a[i]) * b[i];
   n *= static_cast<__int128>(1) << shift;

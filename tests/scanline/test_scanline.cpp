@@ -233,6 +233,28 @@ TEST(ScanlineWide, PortableMatchesInt128) {
     ASSERT_EQ(ml::scan::mul_add3_div_round_low_portable(a, b, shift, d), uint64_t(q)) << it;
     ASSERT_EQ(ml::scan::mul_add3_div_round_low(a, b, shift, d), uint64_t(q)) << it;
   }
+  // Sums that fit int64, up to its limits, and divisors about the 64-bit path's bound 2^(62 - shift):
+  // both sides of it, and quotients whose low 64 bits wrap.
+  for (int it = 0; it < 200000; ++it) {
+    int64_t a[3], b[3];
+    for (int i = 0; i < 3; ++i) {
+      a[i] = int64_t(rng() >> (33 + rng() % 31)) * ((rng() & 1) ? 1 : -1);
+      b[i] = int64_t(rng() >> (33 + rng() % 31)) * ((rng() & 1) ? 1 : -1);
+    }
+    if (it % 5 == 0) a[0] = b[0] = INT32_MAX, a[1] = b[1] = INT32_MIN, a[2] = (it & 8) ? 1 : -1;
+    const int shift = it % 25;
+    const int bound = 62 - shift, e = std::max(0, bound - 3 + int(rng() % 6));
+    const int64_t d = e >= 63 ? INT64_MAX : std::max<int64_t>(1, (int64_t(1) << e) + int64_t(rng() % 5) - 2);
+    __int128 n = 0;
+    for (int i = 0; i < 3; ++i) n += static_cast<__int128>(a[i]) * b[i];
+    n *= static_cast<__int128>(1) << shift;
+    const __int128 q = n >= 0 ? (n + d / 2) / d : -((-n + d / 2) / d);
+    ASSERT_EQ(ml::scan::mul_add3_div_round_low(a, b, shift, d), uint64_t(q)) << it;
+    const int64_t small_d = int64_t(rng() % 1000) + 1;  // large quotients: the low bits wrap
+    const __int128 qs = n >= 0 ? (n + small_d / 2) / small_d : -((-n + small_d / 2) / small_d);
+    ASSERT_EQ(ml::scan::mul_add3_div_round_low(a, b, shift, small_d), uint64_t(qs)) << it;
+    ASSERT_EQ(ml::scan::mul_add3_div_round_low_portable(a, b, shift, small_d), uint64_t(qs)) << it;
+  }
 }
 
 // The portable 128-by-64-bit division against __int128: random and extreme divisors (1, a single
