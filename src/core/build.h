@@ -1,5 +1,6 @@
 // Attributes the compilers take differently.
 #pragma once
+#include <stdint.h>
 
 // A function optimized for size, not speed, on GCC (the boards' flash is short: the Cortex-M0+ image is
 // within a few hundred bytes of its budget). Clang, which the fuzz builds use, has no per-function
@@ -8,4 +9,14 @@
 #define ML_OPTIMIZE_SIZE [[gnu::optimize("Os")]]
 #else
 #define ML_OPTIMIZE_SIZE
+#endif
+
+// Inlining decided for 64-bit hosts, where a hot function's call and saved registers show, and left
+// to the compiler (-Os) on the boards, whose flash a second copy would take.
+#if UINTPTR_MAX > 0xFFFFFFFFu
+#define ML_HOST_INLINE [[gnu::always_inline]]
+#define ML_HOST_NOINLINE [[gnu::noinline]]
+#else
+#define ML_HOST_INLINE
+#define ML_HOST_NOINLINE
 #endif

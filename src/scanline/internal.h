@@ -44,6 +44,16 @@ enum : uint8_t {
   kBlend = 64,
   kWon = 128,           // won at least one sample (Stats::triangles_drawn)
 };
+// Span stepping carries each edge's function value from row to row on 64-bit hosts (one addition a
+// row instead of two products: the duck's frame 3.4 % cheaper for 24 bytes an active piece); the
+// boards evaluate it at the boundary column each row (their RAM: on a Cortex-M3 the carried value
+// saved nothing, its product by the rows stepped costing as much).
+#if UINTPTR_MAX > 0xFFFFFFFFu
+#define ML_CARRY_EDGE_VALUES 1
+#else
+#define ML_CARRY_EDGE_VALUES 0
+#endif
+
 struct ActiveTri {
   uint64_t z_row;       // depth Q16 at X = 0 of the current row (mod 2^64)
   uint64_t gx, gy;      // depth Q16 per sample step in X and Y (mod 2^64)
@@ -60,12 +70,16 @@ struct ActiveTri {
   uint8_t weight_shift;   // kWeightsReady: the weights' numerators and divisor shift (prepare_weights)
   uint8_t pad;
   uint32_t weight_recip;  // kWeightsReady: the divisor's reciprocal (prepare_weights), for sample_weights
+#if ML_CARRY_EDGE_VALUES
   int32_t edge_row;       // the sample row edge_v is at (start_span, then the last row stepped)
   // Edge i's function times den at column edge_x[i] of row edge_row, the fill rule folded in (E < 0
   // outside): a row later it is one addition away (step_span).
   int64_t edge_v[3];
+#else
+  uint32_t pad2;
+#endif
 };
-static_assert(sizeof(ActiveTri) == 128, "ActiveTri layout");
+static_assert(sizeof(ActiveTri) == (ML_CARRY_EDGE_VALUES ? 128 : 104), "ActiveTri layout");
 
 constexpr uint16_t kNoSpan = 0xFFFF;
 
@@ -81,15 +95,16 @@ bool lattice_box(const ScreenTriangle& t, const Lattice& lat, LatticeBox* b);
 bool row_span(const ActiveTri& t, const Lattice& lat, int32_t y, int32_t* min_x, int32_t* max_x);
 
 // Starts span stepping at sample row y for a piece whose vertices and box_x0/box_x1 are set (no
-// division): each edge's boundary column at a side of the box and its function there.
+// division): each edge's boundary column at a side of the box (and, ML_CARRY_EDGE_VALUES, its
+// function there).
 void start_span(ActiveTri* t, const Lattice& lat, int32_t y);
 
-// The same span as row_span, found from the previous row's edge boundaries (edge_x, edge_v) by walking
-// the exact edge functions sample by sample: no division, and each edge's function carried from the
-// last row stepped by one product (one row: b 256). Rows must be stepped in increasing order from
-// start_span's (any gaps allowed); the walk costs the boundaries' movement, at most the box width per
-// edge and row.
-bool step_span(ActiveTri* t, int32_t y, int32_t* min_x, int32_t* max_x);
+// The same span as row_span, found from the previous row's edge boundaries (edge_x) by walking the
+// exact edge functions sample by sample: no division; each edge's function at its boundary column is
+// carried from the last row stepped by one product (ML_CARRY_EDGE_VALUES; one row: b 256) or
+// evaluated there. Rows must be stepped in increasing order from start_span's (any gaps allowed); the
+// walk costs the boundaries' movement, at most the box width per edge and row.
+bool step_span(ActiveTri* t, const Lattice& lat, int32_t y, int32_t* min_x, int32_t* max_x);
 
 // Depth plane of a piece (vertices vx/vy in ActiveTri, depths d[3]): sets z_row for row 0, gx, gy.
 void depth_plane(ActiveTri* t, const uint32_t depth[3], const Lattice& lat);

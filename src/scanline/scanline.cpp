@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/band.h"
+#include "core/build.h"
 #include "scanline/internal.h"
 #include "scanline/sort.h"
 #include "scanline/wide.h"
@@ -119,25 +120,31 @@ static int64_t edge_value(int32_t px, int32_t py, int32_t qx, int32_t qy, const 
 }
 
 void start_span(ActiveTri* t, const Lattice& lat, int32_t y) {
+#if ML_CARRY_EDGE_VALUES
   const int64_t row = int64_t(y) * kSubpixelOne + lat.oy;
+#else
+  (void)lat, (void)y;
+#endif
   for (int i = 0; i < 3; ++i) {
     const int j = i == 2 ? 0 : i + 1;
     // A left edge (E grows with X) starts at the box's left side, a right edge at its right side.
     t->edge_x[i] = int16_t(t->vy[i] > t->vy[j] ? t->box_x0 : t->box_x1);
+#if ML_CARRY_EDGE_VALUES
     t->edge_v[i] = edge_value(t->vx[i], t->vy[i], t->vx[j], t->vy[j], lat, row, t->edge_x[i]);
+#endif
   }
+#if ML_CARRY_EDGE_VALUES
   t->edge_row = y;
+#endif
 }
 
-// Edge p -> q of step_span: carries its function *value at boundary column *col `rows` rows down,
-// walks the column to this row's crossing and narrows [*left, *right]; false when the edge is
-// horizontal and the row lies outside it.
-static inline bool step_edge(int32_t px, int32_t py, int32_t qx, int32_t qy, int64_t rows, int32_t lo, int32_t hi,
-                             int16_t* col, int64_t* value, int32_t* left, int32_t* right) {
-  const int64_t a = int64_t(py) - qy, b = int64_t(qx) - px;  // edge_plane's
-  const int64_t k = a * kSubpixelOne;
+// Edge p -> q of step_span, its function `v` at boundary column *col of this row: walks the column to
+// the row's crossing and narrows [*left, *right]; false when the edge is horizontal and the row lies
+// outside it. *value: v at the column reached.
+static inline bool walk_edge(int32_t py, int32_t qy, int64_t v, int32_t lo, int32_t hi, int16_t* col, int64_t* value,
+                             int32_t* left, int32_t* right) {
+  const int64_t k = (int64_t(py) - qy) * kSubpixelOne;  // edge_plane's a, per sample
   int32_t x = *col;
-  int64_t v = *value + b * kSubpixelOne * rows;
   if (k > 0) {
     // Left edge: the first column in [lo, hi + 1] from which E >= 0.
     while (x > lo && v - k >= 0) { --x; v -= k; }
@@ -157,29 +164,48 @@ static inline bool step_edge(int32_t px, int32_t py, int32_t qx, int32_t qy, int
   return true;
 }
 
-// step_span inline in the renderer's row loop on 64-bit hosts (the call and its saved registers cost
-// about a sixth of a stepped span); the boards keep it out of line (flash).
-#if UINTPTR_MAX > 0xFFFFFFFFu
-#define ML_SPAN_STEP __attribute__((always_inline)) inline
+// Edge p -> q of stepped_span: its function at boundary column *col of this row, carried from the
+// last row stepped (*value, `rows` rows up) or evaluated, then walked.
+static inline bool step_edge(int32_t px, int32_t py, int32_t qx, int32_t qy, const Lattice& lat, int64_t row,
+                             int64_t rows, int32_t lo, int32_t hi, int16_t* col, int64_t* value, int32_t* left,
+                             int32_t* right) {
+#if ML_CARRY_EDGE_VALUES
+  (void)lat, (void)row, (void)py;
+  const int64_t v = *value + (int64_t(qx) - px) * kSubpixelOne * rows;  // edge_plane's b, a row down
 #else
-#define ML_SPAN_STEP inline
+  (void)rows;
+  const int64_t v = edge_value(px, py, qx, qy, lat, row, *col);
 #endif
-static ML_SPAN_STEP bool stepped_span(ActiveTri* t, int32_t y, int32_t* min_x, int32_t* max_x) {
+  return walk_edge(py, qy, v, lo, hi, col, value, left, right);
+}
+
+// step_span, inline in the renderer's row loop on 64-bit hosts (the call and its saved registers cost
+// about a sixth of a stepped span).
+ML_HOST_INLINE static inline bool stepped_span(ActiveTri* t, const Lattice& lat, int32_t y, int32_t* min_x, int32_t* max_x) {
   const int32_t lo = t->box_x0, hi = t->box_x1;
+  const int64_t row = int64_t(y) * kSubpixelOne + lat.oy;
+#if ML_CARRY_EDGE_VALUES
   const int64_t rows = y - t->edge_row;
   t->edge_row = y;
+  int64_t* v = t->edge_v;
+#else
+  const int64_t rows = 0;
+  int64_t v[3];  // the values reached (unused)
+#endif
   int32_t left = lo, right = hi;
   // Every edge is stepped, even past an empty one, so that each keeps its column for the next row.
-  const bool e0 = step_edge(t->vx[0], t->vy[0], t->vx[1], t->vy[1], rows, lo, hi, &t->edge_x[0], &t->edge_v[0], &left, &right);
-  const bool e1 = step_edge(t->vx[1], t->vy[1], t->vx[2], t->vy[2], rows, lo, hi, &t->edge_x[1], &t->edge_v[1], &left, &right);
-  const bool e2 = step_edge(t->vx[2], t->vy[2], t->vx[0], t->vy[0], rows, lo, hi, &t->edge_x[2], &t->edge_v[2], &left, &right);
+  const bool e0 = step_edge(t->vx[0], t->vy[0], t->vx[1], t->vy[1], lat, row, rows, lo, hi, &t->edge_x[0], &v[0], &left, &right);
+  const bool e1 = step_edge(t->vx[1], t->vy[1], t->vx[2], t->vy[2], lat, row, rows, lo, hi, &t->edge_x[1], &v[1], &left, &right);
+  const bool e2 = step_edge(t->vx[2], t->vy[2], t->vx[0], t->vy[0], lat, row, rows, lo, hi, &t->edge_x[2], &v[2], &left, &right);
   if (!(e0 && e1 && e2) || left > right) return false;
   *min_x = left;
   *max_x = right;
   return true;
 }
 
-bool step_span(ActiveTri* t, int32_t y, int32_t* min_x, int32_t* max_x) { return stepped_span(t, y, min_x, max_x); }
+bool step_span(ActiveTri* t, const Lattice& lat, int32_t y, int32_t* min_x, int32_t* max_x) {
+  return stepped_span(t, lat, y, min_x, max_x);
+}
 
 // The plane (no fill rule) of the edge opposite vertex j, v_{j+1} -> v_{j+2}: vertex j's barycentric
 // weight times area2.
@@ -959,6 +985,7 @@ struct Renderer {
     stats->geometry_samples += uint64_t(x1 - x0 + 1);
     mark_drawn(a);
     a.z_run += a.gx * uint64_t(int64_t(x1 - x0));  // as if stepped sample by sample
+#if UINTPTR_MAX > 0xFFFFFFFFu  // the boards: other_run alone (flash)
     if (opt->shading != ShadingMode::Ids && !textured(slot_of(a))) {
       if (!s.accumulate && (a.flags & (kColorsReady | kSmooth)) == kColorsReady) {
         stats->shading_calls += uint64_t(x1 - x0 + 1);  // shade()'s answer, counted as its calls
@@ -967,9 +994,10 @@ struct Renderer {
       }
       if (s.accumulate && !varying) return single_run_constant(a, x0, x1);
     }
+#endif
     other_run(a, x0, x1, y);
   }
-  [[gnu::noinline]] void other_run(ActiveTri& a, int32_t x0, int32_t x1, int32_t y) {
+  ML_HOST_NOINLINE void other_run(ActiveTri& a, int32_t x0, int32_t x1, int32_t y) {
     if (opt->shading == ShadingMode::Ids) {
       for (int32_t x = x0; x <= x1; ++x) keep_surface[x] = a.id + 1;
       return;
@@ -1221,7 +1249,7 @@ struct Renderer {
       ActiveTri& a = act[slot];
       const bool had = a.min_x != kNoSpan;
       int32_t x0, x1;
-      if (!stepped_span(&a, y, &x0, &x1)) {
+      if (!stepped_span(&a, s.lat, y, &x0, &x1)) {
         a.min_x = kNoSpan;
         a.max_x = 0;
         xact[live - 1 - none++] = slot;

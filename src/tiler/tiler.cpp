@@ -1081,14 +1081,6 @@ class NodeRects {
   Rect* rects_ = nullptr;
 };
 
-#if UINTPTR_MAX > 0xFFFFFFFFu
-#define ML_HOST_INLINE [[gnu::always_inline]]
-#define ML_HOST_NOINLINE [[gnu::noinline]]
-#else
-#define ML_HOST_INLINE
-#define ML_HOST_NOINLINE
-#endif
-
 // The vertex cache (view/vertex_cache.h) is a 64-bit host's, like the plan's extras.
 constexpr bool kVertexCache = kVertexCacheBuilt;
 

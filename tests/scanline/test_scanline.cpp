@@ -1062,7 +1062,7 @@ TEST(ScanlineSpans, SteppedSpansEqualDividedSpansAndViewCoverage) {
     ml::setup_triangle(t, width, height, &setup);
     for (int32_t y = box.y0; y <= box.y1; y += (it % 5 == 0) ? 1 + int32_t(rng() % 4) : 1) {
       int32_t s0 = -1, s1 = -2, d0 = -1, d1 = -2;
-      const bool stepped = ml::scan::step_span(&a, y, &s0, &s1);
+      const bool stepped = ml::scan::step_span(&a, lat, y, &s0, &s1);
       const bool divided = ml::scan::row_span(a, lat, y, &d0, &d1);
       const bool divided_in_box = divided && std::max(d0, box.x0) <= std::min(d1, box.x1);
       ASSERT_EQ(stepped, divided_in_box) << "it " << it << " row " << y;
