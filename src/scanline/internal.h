@@ -44,10 +44,10 @@ enum : uint8_t {
   kBlend = 64,
   kWon = 128,           // won at least one sample (Stats::triangles_drawn)
 };
-// Span stepping carries each edge's function value from row to row on 64-bit hosts (one addition a
-// row instead of two products: the duck's frame 3.4 % cheaper for 24 bytes an active piece); the
-// boards evaluate it at the boundary column each row (their RAM: on a Cortex-M3 the carried value
-// saved nothing, its product by the rows stepped costing as much).
+// Span stepping carries each edge's function value from row to row on 64-bit hosts (one product by
+// the rows stepped instead of its evaluation at the boundary column, two products and their terms:
+// the duck's frame 3.4 % cheaper for 24 bytes an active piece); the boards evaluate it each row (their
+// RAM: on a Cortex-M3 the carried value saved nothing, its 64-bit product costing as much).
 #if UINTPTR_MAX > 0xFFFFFFFFu
 #define ML_CARRY_EDGE_VALUES 1
 #else

@@ -120,11 +120,7 @@ static int64_t edge_value(int32_t px, int32_t py, int32_t qx, int32_t qy, const 
 }
 
 void start_span(ActiveTri* t, const Lattice& lat, int32_t y) {
-#if ML_CARRY_EDGE_VALUES
-  const int64_t row = int64_t(y) * kSubpixelOne + lat.oy;
-#else
-  (void)lat, (void)y;
-#endif
+  [[maybe_unused]] const int64_t row = int64_t(y) * kSubpixelOne + lat.oy;
   for (int i = 0; i < 3; ++i) {
     const int j = i == 2 ? 0 : i + 1;
     // A left edge (E grows with X) starts at the box's left side, a right edge at its right side.
