@@ -995,7 +995,7 @@ struct Renderer {
   }
   ML_HOST_NOINLINE void other_run(ActiveTri& a, int32_t x0, int32_t x1, int32_t y) {
     if (opt->shading == ShadingMode::Ids) {
-      for (int32_t x = x0; x <= x1; ++x) keep_surface[x] = a.id + 1;
+      fill_pixels(keep_surface, x0, x1, a.id + 1);
       return;
     }
     if (!s.accumulate) {
@@ -1004,7 +1004,7 @@ struct Renderer {
       ensure_colors(a);
       if (!has_texture && !(a.flags & kSmooth)) {  // one colour: shade()'s answer, counted as its calls
         stats->shading_calls += uint64_t(x1 - x0 + 1);
-        for (int32_t x = x0; x <= x1; ++x) keep_surface[x] = a.color[0];
+        fill_pixels(keep_surface, x0, x1, a.color[0]);
         return;
       }
       for (int32_t x = x0; x <= x1; ++x) keep_surface[x] = shade(a, x, y);
