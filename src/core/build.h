@@ -20,3 +20,11 @@
 #define ML_HOST_INLINE
 #define ML_HOST_NOINLINE
 #endif
+
+// Out of line on the boards (one copy in flash for a function inlined at several calls), the
+// compiler's choice on 64-bit hosts.
+#if UINTPTR_MAX > 0xFFFFFFFFu
+#define ML_BOARD_NOINLINE
+#else
+#define ML_BOARD_NOINLINE [[gnu::noinline]]
+#endif

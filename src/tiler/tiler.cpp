@@ -138,9 +138,11 @@ class BandWriter : public CoverageWriter {
     scene_ = scene;
     light_ = light;
     mode_ = mode;
+    // The colours are kept when the piece's triangle and side are the last shaded one's (the walk
+    // often draws a split triangle's pieces one after the other).
+    shaded_ = triangle == shaded_triangle_ && front_facing == shaded_front_;
     triangle_ = triangle;
     front_facing_ = front_facing;
-    shaded_ = false;
     wrote_piece_ = false;
     texture_ = pager_ ? batch_textures_.of_triangle(*scene, triangle) : kNone;
     texture_ready_ = false;
@@ -165,6 +167,7 @@ class BandWriter : public CoverageWriter {
   void begin_background(Pixel value) {
     texture_ = kNone;
     shaded_ = true;
+    shaded_triangle_ = kNone;
     colors_.flat = value;
     colors_.smooth = false;
   }
@@ -213,9 +216,14 @@ class BandWriter : public CoverageWriter {
   // Every write of a piece: it counts as drawn, and it is shaded once, on the first.
   void first_write() {
     wrote_piece_ = true;
-    if (shaded_) return;
+    if (!shaded_) shade();
+  }
+  // Out of line on the boards: first_write is inlined in every write.
+  ML_BOARD_NOINLINE void shade() {
     shade_triangle(*scene_, *light_, mode_, triangle_, front_facing_, &colors_, world_);
     shaded_ = true;
+    shaded_triangle_ = triangle_;
+    shaded_front_ = front_facing_;
     ++stats_->shading_calls;
   }
 
@@ -490,6 +498,8 @@ class BandWriter : public CoverageWriter {
   uint32_t triangle_ = 0;
   bool front_facing_ = true;
   bool shaded_ = false;
+  uint32_t shaded_triangle_ = kNone;  // the triangle and side colors_ were shaded for (kNone: none)
+  bool shaded_front_ = true;
   bool wrote_piece_ = false;
   const ScreenTriangle* part_ = nullptr;
   bool planes_ready_ = false;
@@ -1111,13 +1121,26 @@ class TilerFrame {
   // 2CylinderEngine's 102 M at 320x240); on the boards the compiler's own choice is smaller and faster
   // (forced inline: m0plus 19.69 M -> 19.78 M a frame, 124 bytes more code).
   ML_HOST_INLINE bool draw_piece(uint32_t index, uint16_t entry);
+  // A split piece's whole triangle, transformed and projected (its view is the one the piece's texture
+  // planes take), kept for the next piece: the BSP walk often reaches pieces of one triangle one after
+  // the other (2CylinderEngine at 320x240: 1,952 of 4,539 projections; the duck: 491 of 1,380).
+  struct WholeTriangle {
+    uint32_t triangle = kNone;  // the scene's triangle index (none yet)
+    int facing = 0;
+    ViewTriangle view;
+    ScreenTriangle parts[kMaxClipTriangles];
+    int n = 0;        // parts
+    ConvexPoly poly;  // parts[0]'s sample box and edges, when n == 1
+  };
+  // The whole triangle of a split piece of triangle `id`: kept, or made from whole_world (null: from
+  // the vertex cache).
+  template <class WholeWorld>
+  const WholeTriangle& whole_triangle(const Triangle& tri, uint32_t id, int facing, WholeWorld whole_world);
   // A split piece's part (of n) clipped to its whole triangle; the triangle its colour planes take, or
   // null when it is to be tiled in the whole triangle's parts (tile_in_whole_parts). Out of line on
   // 64-bit hosts: the walk's loop keeps its registers (2CylinderEngine 320x240 flat 91.65 M inline,
   // 91.35 M so); the boards' compiler chooses.
-  ML_HOST_NOINLINE const ScreenTriangle* clip_to_whole(const Triangle& tri, const Vec3i* whole_world, int facing, int n,
-                                      const ScreenTriangle& part, ViewTriangle* whole_view,
-                                      ScreenTriangle whole_parts[kMaxClipTriangles], int* whole_n, ConvexPoly* poly);
+  ML_HOST_NOINLINE const ScreenTriangle* clip_to_whole(int n, const ScreenTriangle& part, ConvexPoly* poly);
   // A split piece's part whose whole triangle projects in several parts, tiled in each with its colour
   // planes; false when the sink refused a write.
   // Out of line and optimized for size: rare (triangles the near plane or the guard band cuts), off
@@ -1181,6 +1204,7 @@ class TilerFrame {
   PlaneCache plane_cache_;
   VertexCache vertices_;
   bool cached_ = false;  // vertices_ holds entries
+  WholeTriangle whole_;   // the last split piece's whole triangle
   BandWriter* writer_ = nullptr;
   SampleFilter* cosine_;
   uint8_t* jitter_table_ = nullptr;  // every pattern's offsets (core/jitter.h), when jittered
@@ -1546,33 +1570,38 @@ void TilerFrame::part_box(const ScreenTriangle& part, ConvexPoly* poly) const {
   triangle_sample_box(part, band_.factor, camera_.width, camera_.height, jittered(options_), poly);
 }
 
-// A split piece's part clipped to its whole triangle's edges (Frame step 4, docs/tiler.md), when the
-// piece is one part and the triangle projects unclipped. The whole triangle is transformed from
-// whole_world, or from the vertex cache when that is null, and projected once a piece (*whole_n, -1
-// until then); its view is the one the piece's texture planes take. Returns the triangle the part's
-// colour planes are made on (the piece's own corners are split points, not the vertices whose colours
-// shade_triangle gives): the whole triangle's screen triangle when it projects unclipped; null for
-// Gouraud colours when it projects in several parts; the part itself when it projects in none.
-const ScreenTriangle* TilerFrame::clip_to_whole(const Triangle& tri, const Vec3i* whole_world, int facing, int n,
-                                                const ScreenTriangle& part, ViewTriangle* whole_view,
-                                                ScreenTriangle whole_parts[kMaxClipTriangles], int* whole_n,
-                                                ConvexPoly* poly) {
-  if (*whole_n < 0) {
-    if (!kVertexCache || whole_world) view_triangle(view_, whole_world, whole_view);
-    else vertices_.view(tri.batch, tri.v, whole_view);
-    writer_->use_whole_view(whole_view);
-    *whole_n = project_triangle(view_, *whole_view, facing, whole_parts, false);
+template <class WholeWorld>
+const TilerFrame::WholeTriangle& TilerFrame::whole_triangle(const Triangle& tri, uint32_t id, int facing,
+                                                            WholeWorld whole_world) {
+  if (whole_.triangle != id || whole_.facing != facing) {
+    if (!kVertexCache || !cached_) view_triangle(view_, whole_world(), &whole_.view);
+    else vertices_.view(tri.batch, tri.v, &whole_.view);
+    whole_.n = project_triangle(view_, whole_.view, facing, whole_.parts, false);
+    if (whole_.n == 1) {
+      part_box(whole_.parts[0], &whole_.poly);
+      poly_edges(whole_.parts[0], &whole_.poly);
+    }
+    whole_.triangle = id;
+    whole_.facing = facing;
   }
-  if (*whole_n > 1) return options_.shading == ShadingMode::Gouraud ? nullptr : &part;
-  if (*whole_n == 0) return &part;
+  writer_->use_whole_view(&whole_.view);
+  return whole_;
+}
+
+// A split piece's part clipped to its whole triangle's edges (Frame step 4, docs/tiler.md), when the
+// piece is one part and the triangle projects unclipped (whole_, made by whole_triangle). Returns the
+// triangle the part's colour planes are made on (the piece's own corners are split points, not the
+// vertices whose colours shade_triangle gives): the whole triangle's screen triangle when it projects
+// unclipped; null for Gouraud colours when it projects in several parts; the part itself when it
+// projects in none.
+const ScreenTriangle* TilerFrame::clip_to_whole(int n, const ScreenTriangle& part, ConvexPoly* poly) {
+  if (whole_.n > 1) return options_.shading == ShadingMode::Gouraud ? nullptr : &part;
+  if (whole_.n == 0) return &part;
   if (n == 1) {
     const int f = band_.factor;
-    ConvexPoly whole_poly;
-    part_box(whole_parts[0], &whole_poly);
-    poly_edges(whole_parts[0], &whole_poly);
-    clip_to_triangle(view_, part, whole_poly, f, camera_.width * f, camera_.height * f, poly);
+    clip_to_triangle(view_, part, whole_.poly, f, camera_.width * f, camera_.height * f, poly);
   }
-  return &whole_parts[0];
+  return &whole_.parts[0];
 }
 
 // A split piece whose whole triangle the near plane (or the guard band) cut: the triangle's parts each
@@ -1688,9 +1717,6 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
   ScreenTriangle parts[kMaxClipTriangles];
   const int n = project_triangle(view_, transform(), facing, parts, false);  // the tiler reads no depths
   writer_->begin_piece(&scene_, &light_, options_.shading, piece.triangle, facing > 0, split ? nullptr : &view);
-  ViewTriangle whole_view;  // a split piece's whole triangle, when projected below (its texture planes take it too)
-  ScreenTriangle whole_parts[kMaxClipTriangles];  // and its projection (valid while the part is tiled)
-  int whole_n = -1;  // its parts, once projected
   for (int i = 0; i < n; ++i) {
     ConvexPoly poly;
     if (have_box) copy_box(unclipped_box, &poly);  // the one part's box (orient only reorders its vertices)
@@ -1699,12 +1725,14 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
     if (!band_.clip_box(poly, &box)) continue;  // a third of the parts: their edges are never needed
     if (split && n == 1 && !box_tested && !tiler_.box_visible(box)) continue;
     poly_edges(parts[i], &poly);
-    const ScreenTriangle* colour_part =
-        split ? clip_to_whole(tri, cached ? nullptr : whole(), facing, n, parts[i], &whole_view, whole_parts, &whole_n, &poly)
-              : &parts[i];
+    const ScreenTriangle* colour_part = &parts[i];
+    if (split) {
+      whole_triangle(tri, piece.triangle, facing, whole);
+      colour_part = clip_to_whole(n, parts[i], &poly);
+    }
     if (!band_.clip(&poly)) continue;
     if (!colour_part) {
-      if (!tile_in_whole_parts(&poly, whole_parts, whole_n, have_whole ? whole_world : nullptr)) return false;
+      if (!tile_in_whole_parts(&poly, whole_.parts, whole_.n, have_whole ? whole_world : nullptr)) return false;
       continue;
     }
     ++st_->triangles_tiled;
