@@ -1060,9 +1060,21 @@ class NodeRects {
   }
   void init(Arena& arena, uint32_t nodes) {
     rects_ = arena.allocate_array<Rect>(nodes);
-    for (uint32_t i = 0; rects_ && i < nodes; ++i) rects_[i].x0 = kUnknown;
+    for (uint32_t i = 0; rects_ && i < nodes; ++i) rects_[i] = Rect{kUnknown, 0, 0, 0};
   }
   bool active() const { return BandPlan::kExtras && rects_ != nullptr; }
+  // Whether node i's subtree faces away from the eye (`test`, the normal cone's answer, made on the
+  // first call: it holds for every band).
+  template <typename Test>
+  bool faces_away(uint32_t i, Test test) {
+    Rect& r = rects_[i];
+    if (r.x0 == kBack) return true;
+    if (r.x0 != kUnknown || r.y0 == kFacing) return false;  // a rectangle is made only for a node facing
+    const bool back = test();
+    if (back) r.x0 = kBack;
+    else r.y0 = kFacing;
+    return back;
+  }
   // Node i's rectangle (pixels, inclusive, unclipped: box_screen_rect's), or false when its box
   // reaches the near plane (nothing known); made by `make` on the first call.
   template <typename Make>
@@ -1082,9 +1094,11 @@ class NodeRects {
   }
 
  private:
-  // box_screen_rect clamps to +-4 kMaxScreenDim: int16 holds every rectangle and two markers.
-  static_assert(4 * kMaxScreenDim < INT16_MAX, "a box's rectangle fits int16");
-  static constexpr int16_t kUnknown = INT16_MAX, kNear = INT16_MIN;
+  // box_screen_rect clamps to +-4 kMaxScreenDim: int16 holds every rectangle and three markers in x0
+  // (no rectangle yet; the box reaches the near plane; the subtree faces away), and with kUnknown, y0
+  // says whether the subtree was found facing the eye.
+  static_assert(4 * kMaxScreenDim < INT16_MAX - 1, "a box's rectangle fits int16");
+  static constexpr int16_t kUnknown = INT16_MAX, kNear = INT16_MIN, kBack = INT16_MAX - 1, kFacing = 1;
   struct Rect {
     int16_t x0, y0, x1, y1;
   };
@@ -1454,7 +1468,9 @@ Status TilerFrame::walk_bsp() {
     children(node, &near, &far);
     if (!(f & kNearDone)) {
       // Every piece below is a back face (the node's normal cone), or hidden (or outside the band).
-      const bool back = scene_.bsp_cones && bsp_subtree_faces_away(scene_, index, view_.eye);
+      // With the plan's rectangles, the cone is tested once a frame, not once a band.
+      auto faces_away = [&] { return bsp_subtree_faces_away(scene_, index, view_.eye); };
+      const bool back = scene_.bsp_cones && (node_rects_.active() ? node_rects_.faces_away(index, faces_away) : faces_away());
       if (back || (node.subtree_pieces >= cull_min && subtree_hidden(index, node.subtree_pieces))) {
         pieces_done += node.subtree_pieces;
         st_->triangles_culled += node.subtree_pieces;
