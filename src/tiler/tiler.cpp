@@ -1150,10 +1150,10 @@ class TilerFrame {
     int n = 0;        // parts
     ConvexPoly poly;  // parts[0]'s sample box and edges, when n == 1
   };
-  // The whole triangle of a split piece of triangle `id`: kept, or made from whole_world (null: from
-  // the vertex cache).
+  // Makes whole_ the whole triangle of a split piece of triangle `id` (kept when it is already): its
+  // vertices from the vertex cache, or whole_world() without one.
   template <class WholeWorld>
-  const WholeTriangle& whole_triangle(const Triangle& tri, uint32_t id, int facing, WholeWorld whole_world);
+  void project_whole(const Triangle& tri, uint32_t id, int facing, WholeWorld whole_world);
   // A split piece's part (of n) clipped to its whole triangle; the triangle its colour planes take, or
   // null when it is to be tiled in the whole triangle's parts (tile_in_whole_parts). Out of line on
   // 64-bit hosts: the walk's loop keeps its registers (2CylinderEngine 320x240 flat 91.65 M inline,
@@ -1594,8 +1594,7 @@ void TilerFrame::part_box(const ScreenTriangle& part, ConvexPoly* poly) const {
 }
 
 template <class WholeWorld>
-const TilerFrame::WholeTriangle& TilerFrame::whole_triangle(const Triangle& tri, uint32_t id, int facing,
-                                                            WholeWorld whole_world) {
+void TilerFrame::project_whole(const Triangle& tri, uint32_t id, int facing, WholeWorld whole_world) {
   if (whole_.triangle != id || whole_.facing != facing) {
     if (!kVertexCache || !cached_) view_triangle(view_, whole_world(), &whole_.view);
     else vertices_.view(tri.batch, tri.v, &whole_.view);
@@ -1608,11 +1607,10 @@ const TilerFrame::WholeTriangle& TilerFrame::whole_triangle(const Triangle& tri,
     whole_.facing = facing;
   }
   writer_->use_whole_view(&whole_.view);
-  return whole_;
 }
 
 // A split piece's part clipped to its whole triangle's edges (Frame step 4, docs/tiler.md), when the
-// piece is one part and the triangle projects unclipped (whole_, made by whole_triangle). Returns the
+// piece is one part and the triangle projects unclipped (whole_, made by project_whole). Returns the
 // triangle the part's colour planes are made on (the piece's own corners are split points, not the
 // vertices whose colours shade_triangle gives): the whole triangle's screen triangle when it projects
 // unclipped; null for Gouraud colours when it projects in several parts; the part itself when it
@@ -1750,7 +1748,7 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
     poly_edges(parts[i], &poly);
     const ScreenTriangle* colour_part = &parts[i];
     if (split) {
-      whole_triangle(tri, piece.triangle, facing, whole);
+      project_whole(tri, piece.triangle, facing, whole);
       colour_part = clip_to_whole(n, parts[i], &poly);
     }
     if (!band_.clip(&poly)) continue;

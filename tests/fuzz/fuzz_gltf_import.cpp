@@ -56,21 +56,28 @@ class CheckingSink : public ml::Sink {
 };
 
 // The render step, in one place (the render and sink API are the part most likely to change): both
-// renderers at a small size with the default framing; scanline also with 2x2 samples and Gouraud.
+// renderers at a small size with the default framing; scanline also with 2x2 samples and Gouraud; the
+// tiler also with its spare bytes (band plan, kept node rectangles and cone answers, vertex cache) in
+// 4-row bands rendered one at a time, Gouraud.
 void render_small(const ml::Scene& scene) {
   const ml::SceneInfo& info = *scene.info;
   const ml::Vec3i centre{info.sphere_center[0], info.sphere_center[1], info.sphere_center[2]};
   const ml::Camera camera = ml::frame_sphere(centre, info.sphere_radius, 24, 16, 45 << 16);
   ml::View view;
   if (!ml::make_view(camera, &view).ok()) abort();   // the default framing must work for any valid scene
-  ml::RenderOptions options[3];
+  ml::RenderOptions options[4];
   options[0].renderer = ml::RendererKind::Tiler;
   options[1].renderer = ml::RendererKind::Scanline;
   options[2].renderer = ml::RendererKind::Scanline;
   options[2].aa = 2;
   options[2].shading = ml::ShadingMode::Gouraud;
+  options[3].renderer = ml::RendererKind::Tiler;
+  options[3].shading = ml::ShadingMode::Gouraud;
+  options[3].output.band_rows = 4;
+  options[3].output.render_rows = 4;
   for (const ml::RenderOptions& o : options) {
-    const size_t bytes = ml::render_arena_bytes(scene, camera, o);
+    const bool spare = &o == &options[3];
+    const size_t bytes = ml::render_arena_bytes(scene, camera, o) + (spare ? ml::render_spare_bytes(scene, camera, o) : 0);
     std::vector<uint8_t> storage(bytes, kPoison);
     ml::Arena arena(storage.data(), bytes);
     CheckingSink sink;
