@@ -1671,7 +1671,8 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
   // Facing is decided on the whole triangle, exactly as the scanline renderer decides it, and
   // before projecting, so back faces cost almost nothing; with the plan once a triangle. The
   // triangle's vertices are read only when needed: for the test, for a whole piece, and for a split
-  // piece whose box passes the visibility test (with the vertex cache, from it).
+  // piece whose box passes the visibility test and whose whole triangle is not the one kept
+  // (project_whole; with the vertex cache, from it).
   Vec3i whole_world[3];
   bool have_whole = false;
   auto whole = [&]() -> const Vec3i* {

@@ -75,9 +75,11 @@ void render_small(const ml::Scene& scene) {
   options[3].shading = ml::ShadingMode::Gouraud;
   options[3].output.band_rows = 4;
   options[3].output.render_rows = 4;
-  for (const ml::RenderOptions& o : options) {
-    const bool spare = &o == &options[3];
-    const size_t bytes = ml::render_arena_bytes(scene, camera, o) + (spare ? ml::render_spare_bytes(scene, camera, o) : 0);
+  constexpr int kWithSpare = 3;  // the option rendered with render_spare_bytes as well
+  for (int i = 0; i < 4; ++i) {
+    const ml::RenderOptions& o = options[i];
+    const size_t spare = i == kWithSpare ? ml::render_spare_bytes(scene, camera, o) : 0;
+    const size_t bytes = ml::render_arena_bytes(scene, camera, o) + spare;
     std::vector<uint8_t> storage(bytes, kPoison);
     ml::Arena arena(storage.data(), bytes);
     CheckingSink sink;
