@@ -28,3 +28,11 @@
 #else
 #define ML_BOARD_NOINLINE [[gnu::noinline]]
 #endif
+
+// Before a loop of a few passes written as a loop for the boards' flash: unrolled on 64-bit hosts,
+// where GCC's -O2 would keep the loop (and its arrays in memory rather than registers).
+#if UINTPTR_MAX > 0xFFFFFFFFu
+#define ML_HOST_UNROLL _Pragma("GCC unroll 3")
+#else
+#define ML_HOST_UNROLL
+#endif

@@ -123,11 +123,47 @@ void planes_from_view(const View& view, const Vec3i viewed[3], const int32_t uv[
   // texture_segment_whole: dd = L |a_0 + a_1 + a_2| (|a_i| < 2^36: below 2^51 with the factor).
   static_assert(kTextureAffineShiftBits + kTextureSegmentBits == 8, "65 dd is for the test's 1/64 (mapping.h)");
   out->whole_denom = 65 * (magnitude(out->a[0] + out->a[1] + out->a[2]) << kTextureSegmentBits);
+  out->exact = out->boxed = false;
   clear_texture_caches(out);
-  out->exact = false;
 }
 
 }  // namespace
+
+// The e_i over the box, scaled once (mapping.h): |e_i| is at most its value at (x0, y0) plus the
+// steps to the far corner; the scale keeps that below 2^kTextureWeightBits, and the coefficients,
+// rounded, add at most (1 + 17 + 17) / 2 units, so |w_i| < 2^28 + 18 (ExactSteps' sums: below 2^28)
+// and |sum uv_i w_i| < 2^61.
+void make_box_sums(TexturePlanes* p, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
+  --x0, --y0;  // a sample more each side
+  const int64_t w = int64_t(x1) + 1 - x0, h = int64_t(y1) + 1 - y0;
+  int64_t e[3];
+  uint64_t largest = 0;
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
+    e[i] = p->a[i] * x0 + p->b[i] * y0 + p->k[i];
+    largest |= magnitude(e[i]) + magnitude(p->a[i]) * uint64_t(w) + magnitude(p->b[i]) * uint64_t(h);
+  }
+  const int s = max_of(0, bit_length(largest) - kTextureWeightBits);
+  const int64_t half = s > 0 ? int64_t(1) << (s - 1) : 0;
+  const int64_t* const from[3] = {e, p->a, p->b};  // the e_i at (x0, y0), their steps along X and Y
+  int64_t scaled[3][3];
+  ML_HOST_UNROLL for (int j = 0; j < 3; ++j)
+    ML_HOST_UNROLL for (int i = 0; i < 3; ++i) scaled[j][i] = (from[j][i] + half) >> s;
+  const int64_t sign = scaled[0][0] + scaled[0][1] + scaled[0][2] < 0 ? -1 : 1;  // the sum made positive
+  // The sums (u, v, W) at (x0, y0) and their steps. (The union's segment is no triangle's but a
+  // divided small one's, which uses neither: written before the test below.)
+  BoxSums& sums = p->sums;
+  int64_t* const to[3] = {sums.at, sums.dx, sums.dy};
+  ML_HOST_UNROLL for (int j = 0; j < 3; ++j)
+    ML_HOST_UNROLL for (int c = 0; c < 3; ++c) {
+      int64_t n = 0;
+      ML_HOST_UNROLL for (int i = 0; i < 3; ++i) n += (c < 2 ? int64_t(p->uv[i][c]) : 1) * scaled[j][i];
+      to[j][c] = sign * n;
+    }
+  // The sum of e_i stays above 0 over the box: a plane, least at a corner.
+  if (sums.at[2] + min_of(int64_t(0), sums.dx[2] * w) + min_of(int64_t(0), sums.dy[2] * h) <= 0) return;
+  sums.x = x0, sums.y = y0, sums.w = int32_t(w), sums.h = int32_t(h);
+  p->boxed = true;
+}
 
 void make_texture_planes(const View& view, const Vec3i world[3], const int32_t uv[3][2], int32_t den,
                          int32_t ox, int32_t oy, uint32_t width, uint32_t height, int error_bits,
@@ -201,6 +237,12 @@ const TexturePiece& texture_piece(TexturePlanes& p, int32_t x, int32_t y) {
   TexturePiece& piece = p.piece;
   if (y == piece.y && x >= piece.x && x - piece.x < (int32_t(1) << piece.bits)) return piece;
   if (p.exact) {  // a small triangle: the sample alone
+    if (p.boxed) {
+      int32_t uv[2];
+      box_uv(p, x, y, uv);
+      piece = TexturePiece{x, y, 0, {uv[0], uv[1]}, {0, 0}};
+      return piece;
+    }
     ExactUv e;
     exact_texture_uv(p, x, y, &e);
     piece = TexturePiece{x, y, 0, {e.uv[0], e.uv[1]}, {0, 0}};
@@ -264,6 +306,7 @@ void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, 
   const int64_t y0 = floor_shift(lo_y * den - oy + kSubpixelOne - 1, kSubpixelBits);
   const int64_t y1 = floor_shift(hi_y * den - oy, kSubpixelBits);
   out->exact = x1 - x0 < kTextureExactSide && y1 - y0 < kTextureExactSide;
+  if (out->exact) make_box_sums(out, int32_t(x0), int32_t(y0), int32_t(x1), int32_t(y1));
 }
 
 }  // namespace ml

@@ -27,16 +27,22 @@
 // single samples. tests/texture/mapping_test.cpp checks the bound against the exact division and
 // tests/oracle/texture_vs_oracle_test.cpp the images against the double-precision texturer.
 //
-// Small triangles are divided at every sample instead (TexturePlanes::exact): a triangle the view
-// does not clip whose lattice sample box is less than kTextureExactSide samples a side. Their rows
-// are a few samples long, and the perspective of a real model's small faces (often seen at a
-// slant) cuts their segments into pieces of a few samples anyway: deciding a segment (two exact
-// ends and the bound) for such a row costs more than dividing each of its samples, stepping the
-// planes along the row (exact_texture_row). The coordinates are then exact: no error at all.
-
+// Small triangles take no segments (TexturePlanes::exact): a triangle the view does not clip whose
+// lattice sample box is less than kTextureExactSide samples a side. Their rows are a few samples
+// long, and the perspective of a real model's small faces (often seen at a slant) cuts their
+// segments into pieces of a few samples anyway: deciding a segment (two exact ends and the bound)
+// for such a row costs more than dividing each of its samples. Each sample's coordinates are the
+// floored quotient of the sums above with the e_i scaled once for the whole box instead of at each
+// sample (TexturePlanes::boxed, BoxSums): the sums are then planes over the box, stepped from sample
+// to sample by additions, and a sample costs its two divisions. Scaling the planes' coefficients
+// (floored) moves each e_i by less than 31 units of its 28 bits over a box, so the coordinates stay
+// within one unit (2^-16) of exact_texture_uv's for the differences of texture coordinates a real
+// model's small triangle spans (tests/texture/mapping_test.cpp). A box whose sum of e_i changes
+// sign or reaches 0 (the plane seen edge-on) divides each sample as exact_texture_uv does.
 #pragma once
 #include <stdint.h>
 
+#include "core/build.h"
 #include "core/fixed.h"
 #include "scene/scene.h"
 #include "view/view.h"
@@ -75,19 +81,33 @@ struct TexturePiece {
   int64_t step[2];  // uv at x + 2^bits minus uv at x (0 when bits == 0: one exact sample)
 };
 
+// A small triangle's sums over its box (above): at lattice sample (X, Y) of the box, n_k = at[k] +
+// dx[k] (X - x) + dy[k] (Y - y) for k = 0 (u), 1 (v), 2 (the sum of e_i, positive over the box), and
+// the coordinates are floor(n_0 / n_2) and floor(n_1 / n_2), clamped to int32 (|n_0|, |n_1| < 2^62,
+// n_2 < 2^30).
+struct BoxSums {
+  int32_t x, y;    // the box's first sample (the triangle's box and a sample more each side)
+  int32_t w, h;    // its last sample: (x + w, y + h)
+  int64_t at[3], dx[3], dy[3];
+};
+
 struct TexturePlanes {
   int64_t a[3], b[3], k[3];   // e_i(X, Y) = a_i X + b_i Y + k_i, |e_i| < 2^61 on the lattice
   int32_t uv[3][2];           // the triangle's TEXCOORD_0, Q16.16
   int32_t size_bits[2];       // log2 of the texture's width and height: the error bound is in its texels
   int32_t error_bits;         // the affine error bound allowed: 2^-error_bits texel
   bool exact;                 // a small triangle: every sample divided out (no segments)
+  bool boxed;                 // a small triangle's sums scaled once for its box (`sums`)
   uint64_t whole_denom;       // texture_segment_whole's threshold on |sum e_i| (65 dd)
   // Caches, so that drawing costs about one exact division a segment: the segments decided (one,
   // or one per row of a few rows for a renderer that draws blocks, use_segment_rows), the piece
-  // last used.
+  // last used. A small triangle has no segments: its sums take their place.
   TextureSegment* rows;       // null: `one`
   uint32_t row_mask;
-  TextureSegment one;
+  union {
+    TextureSegment one;       // !exact
+    BoxSums sums;             // boxed
+  };
   TexturePiece piece;
 };
 
@@ -107,9 +127,14 @@ void use_segment_rows(TexturePlanes* planes, TextureSegment* rows, int count_bit
 inline void clear_texture_caches(TexturePlanes* planes) {
   planes->rows = nullptr;
   planes->row_mask = 0;
-  planes->one.y = -1;
+  if (!planes->boxed) planes->one.y = -1;  // (a small triangle's sums are no cache: they stay)
   planes->piece.y = -1;
 }
+
+// Makes the planes of a small triangle (exact) boxed, with their sums over the lattice box [x0, x1] x
+// [y0, y1] of its samples (less than kTextureExactSide samples a side) and a sample more each side,
+// unless the sum of e_i changes sign or reaches 0 there.
+void make_box_sums(TexturePlanes* planes, int32_t x0, int32_t y0, int32_t x1, int32_t y1);
 
 // The exact coordinates at lattice sample (X, Y) >= 0: sum uv_i e_i / sum e_i, floored (ExactSteps'
 // division, below).
@@ -192,6 +217,43 @@ class ExactSteps {
   int64_t a0_, a1_, a2_;
   int64_t e0_ = 0, e1_ = 0, e2_ = 0;
 };
+
+// ExactSteps' interface for a boxed small triangle: its sums stepped along the row, each sample's
+// coordinates their two quotients. The loops over a small triangle's samples take either.
+class BoxSteps {
+ public:
+  __attribute__((always_inline)) explicit BoxSteps(const TexturePlanes& p) : s_(p.sums) {}
+  __attribute__((always_inline)) void start(const TexturePlanes&, int32_t x, int32_t y) {
+    const int64_t dx = x - s_.x, dy = y - s_.y;
+    ML_HOST_UNROLL for (int k = 0; k < 3; ++k) n_[k] = s_.at[k] + s_.dx[k] * dx + s_.dy[k] * dy;
+  }
+  __attribute__((always_inline)) void next(int32_t uv[2]) {
+    const int64_t qu = texture_floor_quotient(n_[0], n_[2]), qv = texture_floor_quotient(n_[1], n_[2]);
+    if (((uint64_t(qu) + 0x80000000u) | (uint64_t(qv) + 0x80000000u)) >> 32 == 0) {  // both within int32
+      uv[0] = int32_t(qu);
+      uv[1] = int32_t(qv);
+    } else {  // (only outside the triangle: inside, the coordinates are means of its vertices')
+      uv[0] = int32_t(clamp_to<int64_t>(qu, INT32_MIN, INT32_MAX));
+      uv[1] = int32_t(clamp_to<int64_t>(qv, INT32_MIN, INT32_MAX));
+    }
+    ML_HOST_UNROLL for (int k = 0; k < 3; ++k) n_[k] += s_.dx[k];
+  }
+
+ private:
+  const BoxSums& s_;
+  int64_t n_[3] = {0, 0, 1};  // the sums at the current sample
+};
+
+// The coordinates of lattice sample (x, y) of a boxed small triangle, BoxSteps' one sample: a sample
+// outside the sums' box takes those of the nearest sample in it. (The renderers' samples of the
+// triangle lie in the triangle's box; the sums' box has a sample more each side for an oversampled
+// tiler's pixel centres, whose pixels the triangle covers in part.)
+inline void box_uv(const TexturePlanes& p, int32_t x, int32_t y, int32_t uv[2]) {
+  BoxSteps steps(p);
+  const BoxSums& s = p.sums;
+  steps.start(p, clamp_to(x, s.x, s.x + s.w), clamp_to(y, s.y, s.y + s.h));
+  steps.next(uv);
+}
 
 // The length bits of the affine pieces of the segment between exact ends s and e, kTextureSegmentBits
 // down to 0: the error bound above, in 16-bit mantissas.

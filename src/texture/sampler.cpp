@@ -581,11 +581,11 @@ Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut,
 
 // The runs: a Runs value whose next(&run) gives each run in turn, false after the last (texture_rows'
 // rows, texture_runs' list, sample_block's mask), place(run, &out) where its colours go, and
-// each(p, steps, out, f) calls f(uv, at) for each sample in turn with its exact coordinates
-// (ExactSteps: the planes stepped along each run) and where its colour goes. A list's colours go one
+// each(p, steps, out, f) calls f(uv, at) for each sample in turn with its coordinates (steps:
+// ExactSteps or BoxSteps, stepped along each run) and where its colour goes. A list's colours go one
 // after another from out; a mask's to their places in a block of rows `stride` apart.
-template <typename Runs, typename Sample>
-ML_RUN_HELPER void each_of_runs(Runs& runs, const TexturePlanes& p, ExactSteps& steps, Pixel* out, Sample sample) {
+template <typename Runs, typename Steps, typename Sample>
+ML_RUN_HELPER void each_of_runs(Runs& runs, const TexturePlanes& p, Steps& steps, Pixel* out, Sample sample) {
   int32_t uv[2];
   for (SampleRun run; runs.next(&run);) {
     steps.start(p, run.x, run.y);
@@ -596,8 +596,8 @@ ML_RUN_HELPER void each_of_runs(Runs& runs, const TexturePlanes& p, ExactSteps& 
 template <typename Runs>
 struct InOrderRuns {
   Pixel* place(const SampleRun& run, Pixel** out) const { return (*out += run.n) - run.n; }
-  template <typename Sample>
-  ML_RUN_HELPER void each(const TexturePlanes& p, ExactSteps& steps, Pixel* out, Sample sample) {
+  template <typename Steps, typename Sample>
+  ML_RUN_HELPER void each(const TexturePlanes& p, Steps& steps, Pixel* out, Sample sample) {
     each_of_runs(static_cast<Runs&>(*this), p, steps, out, sample);
   }
 };
@@ -633,8 +633,8 @@ struct MaskRuns {
   }
   // One loop over the set bits (a block's runs are two or three samples long: a loop over runs
   // around one over their samples costs more than the test of each bit against the last).
-  template <typename Sample>
-  ML_RUN_HELPER void each(const TexturePlanes& p, ExactSteps& steps, Pixel* out, Sample sample) {
+  template <typename Steps, typename Sample>
+  ML_RUN_HELPER void each(const TexturePlanes& p, Steps& steps, Pixel* out, Sample sample) {
     int32_t uv[2];
     int last = -2;  // the previous sample's bit
     for (uint64_t m = mask; m != 0; m &= m - 1) {
@@ -648,25 +648,38 @@ struct MaskRuns {
 };
 
 #ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
-// A small triangle's samples (TexturePlanes::exact): exact coordinates sample by sample along each
-// run (ExactSteps), each sample's colour through the table (nearest filtering: its texel taken here,
-// format F known; bilinear, the white table's texels filtered, then multiplied) or decoded, without
-// one. (The firmware, ML_TEXTURE_RUNS_GENERAL_ONLY, for its code budget: texture_rows' samples one
-// by one, each exact.)
-// Bilinear samples along the runs at exact coordinates (ExactSteps), each the filter of the texels
-// `fetch` gives, then multiplied by `tint`.
+// A small triangle's samples (TexturePlanes::exact): coordinates sample by sample along each run
+// (with_steps: its box's sums, or each sample's own), each sample's colour through the table
+// (nearest filtering: its texel taken here, format F known; bilinear, the white table's texels
+// filtered, then multiplied) or decoded, without one. (The firmware, ML_TEXTURE_RUNS_GENERAL_ONLY,
+// for its code budget: texture_rows' samples one by one, each through texture_uv.)
+// body(steps) with the small triangle's steps: its box's sums (boxed) or each sample's own.
+template <typename Body>
+ML_RUN_HELPER void with_steps(const TexturePlanes& p, Body body) {
+  if (p.boxed) {
+    BoxSteps steps(p);
+    body(steps);
+  } else {
+    ExactSteps steps(p);
+    body(steps);
+  }
+}
+
+// Bilinear samples along the runs (with_steps' coordinates), each the filter of the texels `fetch`
+// gives, then multiplied by `tint`.
 template <typename Fetch, typename Runs>
 ML_RUN_HELPER void bilinear_runs(TexturePlanes& p, const TextureTexels& t, const Fetch& fetch, const Tint& tint, bool repeat,
                                  Runs runs, Pixel* out) {
-  ExactSteps steps(p);
-  if (repeat)
-    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
-      *at = bilinear_tinted<true>(t, uv[0], uv[1], fetch, tint);
-    });
-  else
-    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
-      *at = bilinear_tinted<false>(t, uv[0], uv[1], fetch, tint);
-    });
+  with_steps(p, [&](auto& steps) ML_RUN_LAMBDA {
+    if (repeat)
+      runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
+        *at = bilinear_tinted<true>(t, uv[0], uv[1], fetch, tint);
+      });
+    else
+      runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
+        *at = bilinear_tinted<false>(t, uv[0], uv[1], fetch, tint);
+      });
+  });
 }
 
 template <TexelFormat F, typename Runs>
@@ -677,28 +690,28 @@ ML_RUN_HELPER void exact_runs(TexturePlanes& p, const TextureTexels& t, const ui
   const LutTexels<F> fetch(t, bytes, lut);
   const int sb[2] = {16 - p.size_bits[0], 16 - p.size_bits[1]};  // floor(u W / 2^16) for W = 2^size_bits
   const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
-  ExactSteps steps(p);
-  if (nearest && repeat) {  // wrapping is a mask (wrap_as<Repeat>)
-    const int32_t mu = int32_t(t.width) - 1, mv = int32_t(t.height) - 1;
-    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
-      const Pixel texel = fetch((uv[0] >> sb[0]) & mu, (uv[1] >> sb[1]) & mv);
-      *at = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
-    });
-    return;
-  }
-  if (nearest) {
-    runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
-      const Pixel texel = fetch(wrap(uv[0] >> sb[0], t.width, t.wrap_s), wrap(uv[1] >> sb[1], t.height, t.wrap_t));
-      *at = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
-    });
-    return;
-  }
-  if (lut && lut_colour == 0xFFFFFF) {  // bilinear: the filter of the texels, then the product, as sample_texture
+  if (lut && !nearest && lut_colour == 0xFFFFFF) {  // bilinear: the filter of the texels, then the product, as sample_texture
     bilinear_runs(p, t, fetch, tint_of(colour), repeat, runs, out);
     return;
   }
-  runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
-    *at = lut ? sample_texture(t, bytes, lut, lut_colour, uv, colour, true) : textured_colour(t, bytes, uv, colour, true);
+  with_steps(p, [&](auto& steps) ML_RUN_LAMBDA {
+    if (nearest && repeat) {  // wrapping is a mask (wrap_as<Repeat>)
+      const int32_t mu = int32_t(t.width) - 1, mv = int32_t(t.height) - 1;
+      runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
+        const Pixel texel = fetch((uv[0] >> sb[0]) & mu, (uv[1] >> sb[1]) & mv);
+        *at = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
+      });
+    } else if (nearest) {
+      runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
+        const Pixel texel = fetch(wrap(uv[0] >> sb[0], t.width, t.wrap_s), wrap(uv[1] >> sb[1], t.height, t.wrap_t));
+        *at = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
+      });
+    } else {
+      runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
+        *at = lut ? sample_texture(t, bytes, lut, lut_colour, uv, colour, true)
+                  : textured_colour(t, bytes, uv, colour, true);
+      });
+    }
   });
 }
 

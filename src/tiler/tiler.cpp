@@ -75,6 +75,7 @@ class PlaneCache {
     const Set& set = sets_[triangle & (kSets - 1)];
     if (set.triangle != triangle) return false;
     memcpy(static_cast<void*>(planes), set.made, sizeof set.made);
+    if (planes->boxed) memcpy(&planes->sums, set.made, sizeof planes->sums);
     clear_texture_caches(planes);
     return true;
   }
@@ -83,11 +84,15 @@ class PlaneCache {
     Set& set = sets_[triangle & (kSets - 1)];
     set.triangle = triangle;
     memcpy(set.made, static_cast<const void*>(&planes), sizeof set.made);
+    if (planes.boxed) memcpy(set.made, &planes.sums, sizeof planes.sums);
   }
 
  private:
   // TexturePlanes' fields make_texture_planes gives (a, b, k .. whole_denom), the caches after them.
+  // A boxed small triangle's sums are kept in place of its planes and coordinates (a, b, k, uv),
+  // which it does not use again.
   static constexpr size_t kMade = offsetof(TexturePlanes, rows);
+  static_assert(sizeof(BoxSums) <= offsetof(TexturePlanes, size_bits), "the sums in place of the planes");
   struct Set {
     alignas(8) unsigned char made[kMade];
     uint32_t triangle;

@@ -265,6 +265,131 @@ TEST(TextureMapping, SmallTrianglesAreExactAtEverySample) {
   EXPECT_GT(samples, 10000u);
 }
 
+// A small triangle of case c's view: its vertices pulled towards their centroid until it projects to
+// a box of fewer than kTextureExactSide samples a side (false: it does not, or the view clips it),
+// with coordinates spanning at most `span` (Q16.16) around a random base; *box: its lattice box at
+// pixel centres, as triangle_texture_planes finds it.
+bool shrink_to_small(Case* c, std::mt19937& rng, int32_t span, int32_t box[4]) {
+  double centre[3] = {0, 0, 0};
+  for (const ml::Vec3i& v : c->world) centre[0] += v.x / 3.0, centre[1] += v.y / 3.0, centre[2] += v.z / 3.0;
+  const double f = std::uniform_real_distribution<double>(0.001, 0.03)(rng);
+  for (ml::Vec3i& v : c->world)
+    v = ml::Vec3i{int32_t(std::lround(centre[0] + (v.x - centre[0]) * f)),
+                  int32_t(std::lround(centre[1] + (v.y - centre[1]) * f)),
+                  int32_t(std::lround(centre[2] + (v.z - centre[2]) * f))};
+  std::uniform_int_distribution<int32_t> base(-30000 * 65536, 30000 * 65536), near(-span, span);
+  for (int k = 0; k < 2; ++k) {
+    const int32_t b = base(rng);
+    for (auto& uv : c->uv) uv[k] = b + near(rng);
+  }
+  ml::ViewTriangle t;
+  ml::view_triangle(c->view, c->world, &t);
+  if (!t.unclipped) return false;
+  int32_t sx[3], sy[3];
+  ml::unclipped_positions(c->view, t, sx, sy);
+  box[0] = int32_t((int64_t(*std::min_element(sx, sx + 3)) - 128 + 255) >> 8);
+  box[1] = int32_t((int64_t(*std::min_element(sy, sy + 3)) - 128 + 255) >> 8);
+  box[2] = int32_t((int64_t(*std::max_element(sx, sx + 3)) - 128) >> 8);
+  box[3] = int32_t((int64_t(*std::max_element(sy, sy + 3)) - 128) >> 8);
+  return box[2] - box[0] < ml::kTextureExactSide && box[3] - box[1] < ml::kTextureExactSide && box[0] <= box[2] &&
+         box[1] <= box[3];
+}
+
+// Small triangles' coordinates from their box's sums (make_box_sums, BoxSteps): within one unit of
+// the exact division at every sample of the triangle (coordinates spanning up to two textures about
+// any base), BoxSteps along each row the same as box_uv sample by sample, and the sum of e_i positive
+// over the box and a sample beyond it (what make_box_sums promises).
+TEST(TextureMapping, SmallTrianglesBoxSumsStayWithinAUnitOfTheExactDivision) {
+  std::mt19937 rng(20261202);
+  size_t samples = 0, boxed = 0, triangles = 0, off_by_one = 0;
+  for (int n = 0; n < 12000; ++n) {
+    Case c = random_case(rng);
+    int32_t box[4];
+    if (!shrink_to_small(&c, rng, 2 * 65536, box)) continue;
+    ++triangles;
+    ml::TexturePlanes p;
+    ml::make_texture_planes(c.view, c.world, c.uv, 1, ml::kSubpixelHalf, ml::kSubpixelHalf, c.width, c.height,
+                            c.error_bits, &p);
+    p.exact = true;
+    const ml::TexturePlanes divided = p;
+    ml::make_box_sums(&p, box[0], box[1], box[2], box[3]);
+    if (!p.boxed) continue;
+    ++boxed;
+    const ml::BoxSums& s = p.sums;
+    for (int32_t y = box[1] - 1; y <= box[3] + 1; ++y) {
+      ml::BoxSteps steps(p);
+      steps.start(p, box[0] - 1, y);
+      for (int32_t x = box[0] - 1; x <= box[2] + 1; ++x) {
+        ASSERT_GT(s.at[2] + s.dx[2] * (x - s.x) + s.dy[2] * (y - s.y), 0) << "case " << n;
+        int32_t stepped[2], one[2];
+        steps.next(stepped);
+        ml::box_uv(p, x, y, one);
+        ASSERT_EQ(stepped[0], one[0]) << "case " << n << " sample " << x << "," << y;
+        ASSERT_EQ(stepped[1], one[1]) << "case " << n << " sample " << x << "," << y;
+        // Inside the triangle: every e_i of the sum's sign.
+        int64_t e[3], d = 0;
+        for (int i = 0; i < 3; ++i) d += e[i] = p.a[i] * x + p.b[i] * y + p.k[i];
+        if (!((e[0] >= 0) == (d > 0) && (e[1] >= 0) == (d > 0) && (e[2] >= 0) == (d > 0))) continue;
+        ml::ExactUv exact;
+        ml::exact_texture_uv(divided, x, y, &exact);
+        for (int k = 0; k < 2; ++k) {
+          ASSERT_LE(std::abs(int64_t(one[k]) - exact.uv[k]), 1) << "case " << n << " sample " << x << "," << y;
+          off_by_one += one[k] != exact.uv[k];
+        }
+        ++samples;
+      }
+    }
+  }
+  EXPECT_GT(triangles, 1000u);
+  EXPECT_GT(boxed, triangles * 9 / 10);
+  EXPECT_GT(samples, 20000u);
+  EXPECT_LT(off_by_one, samples / 20);  // mostly the same floor as the exact division
+}
+
+// make_box_sums over random planes of every magnitude (as ExactDivisionIsTheFlooredQuotient's) and
+// random boxes: when it boxes them, the sum of e_i is positive over the box and BoxSteps gives the
+// floored quotients of the sums, clamped to int32, at every sample (no overflow: the sanitizers).
+TEST(TextureMapping, BoxSumsOfAnyPlanesStayPositiveAndInRange) {
+  std::mt19937_64 rng(20261203);
+  const auto any = [&](int bits) {
+    return bits == 0 ? 0 : int64_t(rng() >> (64 - bits - 1)) - (int64_t(1) << bits);
+  };
+  size_t boxed = 0, samples = 0;
+  for (int n = 0; n < 20000; ++n) {
+    ml::TexturePlanes p{};
+    for (int i = 0; i < 3; ++i) {
+      p.a[i] = any(int(rng() % 46));
+      p.b[i] = any(int(rng() % 46));
+      p.k[i] = any(int(rng() % 60));
+      for (int k = 0; k < 2; ++k) p.uv[i][k] = int32_t(uint32_t(rng()));
+    }
+    p.exact = true;
+    const int32_t x0 = int32_t(rng() % 2048), y0 = int32_t(rng() % 2048);
+    const int32_t x1 = x0 + int32_t(rng() % 16), y1 = y0 + int32_t(rng() % 16);
+    ml::make_box_sums(&p, x0, y0, x1, y1);
+    if (!p.boxed) continue;
+    ++boxed;
+    const ml::BoxSums& s = p.sums;
+    for (int32_t y = y0 - 1; y <= y1 + 1; ++y) {
+      ml::BoxSteps steps(p);
+      steps.start(p, x0 - 1, y);
+      for (int32_t x = x0 - 1; x <= x1 + 1; ++x, ++samples) {
+        const int64_t w = s.at[2] + s.dx[2] * (x - s.x) + s.dy[2] * (y - s.y);
+        ASSERT_GT(w, 0) << "case " << n;
+        ASSERT_LT(w, int64_t(1) << 30) << "case " << n;
+        int32_t uv[2];
+        steps.next(uv);
+        for (int k = 0; k < 2; ++k) {
+          const int64_t sum = s.at[k] + s.dx[k] * (x - s.x) + s.dy[k] * (y - s.y);
+          ASSERT_EQ(uv[k], int32_t(std::clamp<int64_t>(ml::div_floor(sum, w), INT32_MIN, INT32_MAX))) << "case " << n;
+        }
+      }
+    }
+  }
+  EXPECT_GT(boxed, 5000u);
+  EXPECT_GT(samples, 100000u);
+}
+
 // A texture of random bytes in format f (any bytes are valid: palette indices past the palette read
 // its last colour).
 struct RandomTexture {
@@ -294,30 +419,41 @@ ml::TexturePlanes planes_for(const Case& c, const ml::TextureTexels& t) {
   return planes;
 }
 
+// Makes small planes boxed over the whole 320x240 lattice the sampler tests draw (make_box_sums;
+// unless the triangle's plane is seen edge-on there): their steps are the box sums', and these tests
+// compare the loops with sample_texture at box_uv's coordinates. True when boxed.
+bool box_over_screen(ml::TexturePlanes* planes) {
+  ml::make_box_sums(planes, 0, 0, 319, 239);
+  return planes->boxed;
+}
+
 // One random case of the sampler tests: a triangle, a random texture of format formats[n % 3] at its
-// size, a colour (white one case in four) and the planes of the triangle, small (every sample exact)
-// when `small`.
+// size, a colour (white one case in four) and the planes of the triangle, small when `small` (every
+// sample divided, or with `boxed` from sums over the screen when the plane allows).
 struct SamplerCase {
   Case c;
   RandomTexture tex;
   ml::Pixel colour;
   ml::TexturePlanes planes;
 };
-SamplerCase sampler_case(std::mt19937& rng, int n, bool small) {
+SamplerCase sampler_case(std::mt19937& rng, int n, bool small, bool boxed = false) {
   const ml::TexelFormat formats[] = {ml::TexelFormat::Rgb565, ml::TexelFormat::Palette8, ml::TexelFormat::Grey4};
   const Case c = random_case(rng);
   RandomTexture tex(rng, formats[n % 3], c.width, c.height);
   const ml::Pixel colour = n % 4 == 0 ? 0xFFFFFF : ml::Pixel(rng() & 0xFFFFFF);
   ml::TexturePlanes planes = planes_for(c, tex.t);
   planes.exact = small;
+  if (small && boxed) box_over_screen(&planes);
   return SamplerCase{c, std::move(tex), colour, planes};
 }
 
 TEST(TextureMapping, RowsGiveTheColoursSampleBySample) {
   std::mt19937 rng(7);
-  size_t compared = 0;
+  size_t compared = 0, boxed = 0;
   for (int n = 0; n < 120; ++n) {
-    const SamplerCase sc = sampler_case(rng, n, n % 5 == 1);  // some small triangles' rows: every sample exact
+    // Some small triangles' rows: every sample divided, or from the box's sums.
+    const SamplerCase sc = sampler_case(rng, n, n % 5 == 1, n % 10 == 1);
+    boxed += sc.planes.boxed;
     const RandomTexture& tex = sc.tex;
     const ml::Pixel colour = sc.colour;
     ml::TexturePlanes rows = sc.planes;
@@ -350,6 +486,7 @@ TEST(TextureMapping, RowsGiveTheColoursSampleBySample) {
     }
   }
   EXPECT_GT(compared, 100000u);
+  EXPECT_GT(boxed, 3u);
 }
 
 // texture_runs as the tiler calls it for a small triangle's block: runs of a few samples on a few
@@ -357,9 +494,10 @@ TEST(TextureMapping, RowsGiveTheColoursSampleBySample) {
 // filter and wrap, the table of the colour or the white one).
 TEST(TextureMapping, RunsOfABlockGiveTheColoursSampleBySample) {
   std::mt19937 rng(17);
-  size_t compared = 0;
+  size_t compared = 0, boxed = 0;
   for (int n = 0; n < 90; ++n) {
-    const SamplerCase sc = sampler_case(rng, n, n % 3 != 2);
+    const SamplerCase sc = sampler_case(rng, n, n % 3 != 2, n % 3 == 0);
+    boxed += sc.planes.boxed;
     const RandomTexture& tex = sc.tex;
     const ml::Pixel colour = sc.colour;
     ml::TexturePlanes planes = sc.planes;
@@ -396,6 +534,7 @@ TEST(TextureMapping, RunsOfABlockGiveTheColoursSampleBySample) {
     }
   }
   EXPECT_GT(compared, 30000u);
+  EXPECT_GT(boxed, 5u);
 }
 
 // Nearest runs whose texel indices cross the texture's edges a few times (coordinates over a few
@@ -444,7 +583,7 @@ TEST(TextureMapping, NearestRunsAcrossTextureEdgesGiveTheColoursSampleBySample) 
 TEST(TextureMapping, BlocksOfRowsGiveTheColoursSampleBySample) {
   std::mt19937 rng(11);
   const ml::TexelFormat formats[] = {ml::TexelFormat::Rgb565, ml::TexelFormat::Palette8, ml::TexelFormat::Grey4};
-  size_t compared = 0;
+  size_t compared = 0, boxed = 0;
   for (int n = 0; n < 90; ++n) {
     Case c = random_case(rng);
     if (n % 2)
@@ -452,7 +591,8 @@ TEST(TextureMapping, BlocksOfRowsGiveTheColoursSampleBySample) {
     const RandomTexture tex(rng, formats[n % 3], c.width, c.height);
     const ml::Pixel colour = n % 4 == 0 ? 0xFFFFFF : ml::Pixel(rng() & 0xFFFFFF);
     ml::TexturePlanes blocks = planes_for(c, tex.t);
-    blocks.exact = n % 5 == 1;  // a small triangle's blocks: every sample exact
+    blocks.exact = n % 5 == 1;  // a small triangle's blocks: every sample divided, or from its box's sums
+    if (n % 10 == 1) boxed += box_over_screen(&blocks);
     ml::TexturePlanes one = blocks;
     std::vector<ml::TextureSegment> segment_rows(16);
     ml::use_segment_rows(&blocks, segment_rows.data(), 4);
@@ -475,6 +615,7 @@ TEST(TextureMapping, BlocksOfRowsGiveTheColoursSampleBySample) {
     }
   }
   EXPECT_GT(compared, 100000u);
+  EXPECT_GT(boxed, 2u);
 }
 
 }  // namespace
