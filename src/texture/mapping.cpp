@@ -131,8 +131,8 @@ void planes_from_view(const View& view, const Vec3i viewed[3], const int32_t uv[
 
 // The e_i over the box, scaled once (mapping.h): |e_i| is at most its value at (x0, y0) plus the
 // steps to the far corner; the scale keeps that below 2^kTextureWeightBits, and the coefficients,
-// rounded, add at most (1 + 17 + 17) / 2 units, so |w_i| < 2^28 + 18 (ExactSteps' sums: below 2^28)
-// and |sum uv_i w_i| < 2^61.
+// rounded, add at most (1 + 33 + 33) / 2 units (boxes of at most 33 samples a side, with the one
+// more each side), so |w_i| < 2^28 + 34 (ExactSteps' sums: below 2^28) and |sum uv_i w_i| < 2^61.
 void make_box_sums(TexturePlanes* p, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
   --x0, --y0;  // a sample more each side
   const int64_t w = int64_t(x1) + 1 - x0, h = int64_t(y1) + 1 - y0;

@@ -28,17 +28,18 @@
 // tests/oracle/texture_vs_oracle_test.cpp the images against the double-precision texturer.
 //
 // Small triangles take no segments (TexturePlanes::exact): a triangle the view does not clip whose
-// lattice sample box is less than kTextureExactSide samples a side. Their rows are a few samples
-// long, and the perspective of a real model's small faces (often seen at a slant) cuts their
-// segments into pieces of a few samples anyway: deciding a segment (two exact ends and the bound)
-// for such a row costs more than dividing each of its samples. Each sample's coordinates are the
-// floored quotient of the sums above with the e_i scaled once for the whole box instead of at each
-// sample (TexturePlanes::boxed, BoxSums): the sums are then planes over the box, stepped from sample
-// to sample by additions, and a sample costs its two divisions. Scaling the planes' coefficients
-// (floored) moves each e_i by less than 31 units of its 28 bits over a box, so the coordinates stay
-// within one unit (2^-16) of exact_texture_uv's for the differences of texture coordinates a real
-// model's small triangle spans (tests/texture/mapping_test.cpp). A box whose sum of e_i changes
-// sign or reaches 0 (the plane seen edge-on) divides each sample as exact_texture_uv does.
+// lattice sample box is less than kTextureExactSide samples a side. Their rows are short, and the
+// perspective of a real model's small faces (often seen at a slant) cuts their segments into pieces
+// of a few samples anyway: deciding a segment (two exact ends and the bound) for such a row costs
+// more than dividing each of its samples. Each sample's coordinates are the floored quotient of the
+// sums above with the e_i scaled once for the whole box instead of at each sample
+// (TexturePlanes::boxed, BoxSums): the sums are then planes over the box, stepped from sample to
+// sample by additions, and a sample costs its two divisions. Rounding the planes' coefficients to
+// the box's scale moves each e_i by at most 33.5 units of its 28 bits over the box, so the
+// coordinates stay within one unit (2^-16) of exact_texture_uv's for the differences of texture
+// coordinates a real model's small triangle spans (tests/texture/mapping_test.cpp). A box whose sum
+// of e_i changes sign or reaches 0 (the plane seen edge-on) divides each sample as exact_texture_uv
+// does.
 #pragma once
 #include <stdint.h>
 
@@ -55,7 +56,7 @@ constexpr int32_t kTextureSegment = 1 << kTextureSegmentBits;
 constexpr int kTextureAffineErrorBitsNearest = 5;
 constexpr int kTextureAffineErrorBitsBilinear = 7;
 constexpr int kTextureAffineShiftBits = 3;
-constexpr int32_t kTextureExactSide = 16;  // small triangles: sample boxes narrower and lower than this
+constexpr int32_t kTextureExactSide = 32;  // small triangles: sample boxes narrower and lower than this
 
 // Exact texture coordinates at one sample, and what deciding a segment needs about them.
 struct ExactUv {
