@@ -149,8 +149,8 @@ void make_box_sums(TexturePlanes* p, int32_t x0, int32_t y0, int32_t x1, int32_t
   ML_HOST_UNROLL for (int j = 0; j < 3; ++j)
     ML_HOST_UNROLL for (int i = 0; i < 3; ++i) scaled[j][i] = (from[j][i] + half) >> s;
   const int64_t sign = scaled[0][0] + scaled[0][1] + scaled[0][2] < 0 ? -1 : 1;  // the sum made positive
-  // The sums (u, v, W) at (x0, y0) and their steps. (The union's segment is no triangle's but a
-  // divided small one's, which uses neither: written before the test below.)
+  // The sums (u, v, W) at (x0, y0) and their steps, written before the test below: a small triangle
+  // left divided uses neither them nor the segment cache they share the union with.
   BoxSums& sums = p->sums;
   int64_t* const to[3] = {sums.at, sums.dx, sums.dy};
   ML_HOST_UNROLL for (int j = 0; j < 3; ++j)

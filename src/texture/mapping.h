@@ -84,7 +84,7 @@ struct TexturePiece {
 
 // A small triangle's sums over its box (above): at lattice sample (X, Y) of the box, n_k = at[k] +
 // dx[k] (X - x) + dy[k] (Y - y) for k = 0 (u), 1 (v), 2 (the sum of e_i, positive over the box), and
-// the coordinates are floor(n_0 / n_2) and floor(n_1 / n_2), clamped to int32 (|n_0|, |n_1| < 2^62,
+// the coordinates are floor(n_0 / n_2) and floor(n_1 / n_2), clamped to int32 (|n_0|, |n_1| < 2^61,
 // n_2 < 2^30).
 struct BoxSums {
   int32_t x, y;    // the box's first sample (the triangle's box and a sample more each side)
@@ -97,8 +97,8 @@ struct TexturePlanes {
   int32_t uv[3][2];           // the triangle's TEXCOORD_0, Q16.16
   int32_t size_bits[2];       // log2 of the texture's width and height: the error bound is in its texels
   int32_t error_bits;         // the affine error bound allowed: 2^-error_bits texel
-  bool exact;                 // a small triangle: every sample divided out (no segments)
-  bool boxed;                 // a small triangle's sums scaled once for its box (`sums`)
+  bool exact;                 // a small triangle: no segments, each sample's coordinates its own
+  bool boxed;                 // a small triangle's sums scaled once for its box (`sums`), else divided
   uint64_t whole_denom;       // texture_segment_whole's threshold on |sum e_i| (65 dd)
   // Caches, so that drawing costs about one exact division a segment: the segments decided (one,
   // or one per row of a few rows for a renderer that draws blocks, use_segment_rows), the piece
@@ -220,7 +220,8 @@ class ExactSteps {
 };
 
 // ExactSteps' interface for a boxed small triangle: its sums stepped along the row, each sample's
-// coordinates their two quotients. The loops over a small triangle's samples take either.
+// coordinates their two quotients. The loops over a small triangle's samples take either; this one
+// for samples of the sums' box only (the renderers' samples of the triangle, box_uv below).
 class BoxSteps {
  public:
   __attribute__((always_inline)) explicit BoxSteps(const TexturePlanes& p) : s_(p.sums) {}

@@ -62,7 +62,7 @@ inline bool blends_table_as_is(const TextureTexels& texture, bool exact, Pixel l
 // make_texel_lut table of this texture for colour `lut_colour`, or null (texels decoded one by one);
 // lut_colour is either `colour` (no product per sample) or white (the product per texel, or per
 // sample: a small triangle's bilinear filter). A small triangle's planes (TexturePlanes::exact) take
-// the exact coordinates at every sample. lanes: lut's colours in lanes (TexturePager::lanes_of), or
+// each sample's own coordinates (the box's sums, or the exact division). lanes: lut's colours in lanes (TexturePager::lanes_of), or
 // null; a bilinear filter that blends lut's colours as they are takes them from there (the same
 // colours; 64-bit hosts).
 // texture_rows: `rows` such rows (y, y + 1, ...) of n samples each, one after another in out (the

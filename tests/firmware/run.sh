@@ -37,7 +37,8 @@ done
 if [ -n "$missing" ]; then
   for n in mps2-tiler-bytes mps2-scanline-bytes mps2-tiler-picture mps2-scanline-picture lm3s-tiler-oled \
     lm3s-scanline-oled m0plus-microbit-crc render-on-qemu render-on-qemu-tiler-aa render-on-qemu-textured-tiler \
-    render-on-qemu-textured-scanline flash-budget no-soft-float; do
+    render-on-qemu-textured-scanline render-on-qemu-small-textured-tiler render-on-qemu-small-textured-scanline \
+    flash-budget no-soft-float; do
     not_ok "$n" "$missing"
   done
   exit 1
@@ -153,6 +154,13 @@ box_textured=/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.
 for r in tiler scanline; do
   render_on_qemu "render-on-qemu-textured-$r" "BoxTextured (texels read in place from flash) with the $r" "$box_textured" \
     --renderer $r --size 160x120
+done
+# Small textured triangles (docs/textures.md): at 160x120 most of textureTransform's triangles are small,
+# their coordinates from box sums (the boards' loop form, divisions by div_floor) and nearest texels.
+texture_transform=/usr/share/assimp/models/glTF2/textureTransform/TextureTransformTest.gltf
+for r in tiler scanline; do
+  render_on_qemu "render-on-qemu-small-textured-$r" "textureTransform's small triangles with the $r" \
+    "$texture_transform" --renderer $r --size 160x120
 done
 
 # ---- flash budget: code and tables of each board image -----------------------------------------------

@@ -234,8 +234,8 @@ TEST(TextureMapping, ExactDivisionIsTheFlooredQuotient) {
   EXPECT_GT(negative, samples / 4);
 }
 
-// Small triangles (TexturePlanes::exact) take the exact coordinates at every sample, and the row
-// function steps the planes to the same values as dividing each sample on its own.
+// Small triangles left divided (TexturePlanes::exact, not boxed) take the exact coordinates at every
+// sample, and the row function steps the planes to the same values as dividing each sample on its own.
 TEST(TextureMapping, SmallTrianglesAreExactAtEverySample) {
   std::mt19937 rng(20261201);
   size_t samples = 0;
