@@ -365,7 +365,7 @@ TEST(TextureMapping, BoxSumsOfAnyPlanesStayPositiveAndInRange) {
     }
     p.exact = true;
     const int32_t x0 = int32_t(rng() % 2048), y0 = int32_t(rng() % 2048);
-    const int32_t x1 = x0 + int32_t(rng() % 16), y1 = y0 + int32_t(rng() % 16);
+    const int32_t x1 = x0 + int32_t(rng() % ml::kTextureExactSide), y1 = y0 + int32_t(rng() % ml::kTextureExactSide);
     ml::make_box_sums(&p, x0, y0, x1, y1);
     if (!p.boxed) continue;
     ++boxed;
