@@ -167,6 +167,19 @@ inline int64_t texture_floor_quotient(int64_t n, int64_t d) {
 // (one common shift: the divisor stays below 2^30), floored and clamped to int32. The sums are taken
 // from vertex 0: floor(sum uv_i w_i / W) = uv_0 + floor((d_1 w_1 + d_2 w_2) / W) for W = sum w_i and
 // d_i = uv_i - uv_0 (|d_i| < 2^32, |d_i w_i| < 2^60): two products a coordinate instead of three.
+// uv = (qu, qv) clamped to int32; false when clamped. Both within int32 is the usual case, one test:
+// q + 2^31 below 2^32 as unsigned.
+__attribute__((always_inline)) inline bool clamped_coordinates(int64_t qu, int64_t qv, int32_t uv[2]) {
+  if (((uint64_t(qu) + 0x80000000u) | (uint64_t(qv) + 0x80000000u)) >> 32 == 0) {
+    uv[0] = int32_t(qu);
+    uv[1] = int32_t(qv);
+    return true;
+  }
+  uv[0] = int32_t(clamp_to<int64_t>(qu, INT32_MIN, INT32_MAX));
+  uv[1] = int32_t(clamp_to<int64_t>(qv, INT32_MIN, INT32_MAX));
+  return false;
+}
+
 constexpr int kTextureWeightBits = 28;
 class ExactSteps {
  public:
@@ -202,16 +215,7 @@ class ExactSteps {
       uv[1] = int32_t(v0_);
       return false;
     }
-    const int64_t qu = u0_ + texture_floor_quotient(nu, total), qv = v0_ + texture_floor_quotient(nv, total);
-    // Both within int32 (the usual case, one test): q + 2^31 below 2^32 as unsigned.
-    if (((uint64_t(qu) + 0x80000000u) | (uint64_t(qv) + 0x80000000u)) >> 32 == 0) {
-      uv[0] = int32_t(qu);
-      uv[1] = int32_t(qv);
-      return true;
-    }
-    uv[0] = int32_t(clamp_to<int64_t>(qu, INT32_MIN, INT32_MAX));
-    uv[1] = int32_t(clamp_to<int64_t>(qv, INT32_MIN, INT32_MAX));
-    return false;
+    return clamped_coordinates(u0_ + texture_floor_quotient(nu, total), v0_ + texture_floor_quotient(nv, total), uv);
   }
 
   int64_t u0_, v0_, du1_, du2_, dv1_, dv2_;
@@ -230,14 +234,8 @@ class BoxSteps {
     ML_HOST_UNROLL for (int k = 0; k < 3; ++k) n_[k] = s_.at[k] + s_.dx[k] * dx + s_.dy[k] * dy;
   }
   __attribute__((always_inline)) void next(int32_t uv[2]) {
-    const int64_t qu = texture_floor_quotient(n_[0], n_[2]), qv = texture_floor_quotient(n_[1], n_[2]);
-    if (((uint64_t(qu) + 0x80000000u) | (uint64_t(qv) + 0x80000000u)) >> 32 == 0) {  // both within int32
-      uv[0] = int32_t(qu);
-      uv[1] = int32_t(qv);
-    } else {  // (only outside the triangle: inside, the coordinates are means of its vertices')
-      uv[0] = int32_t(clamp_to<int64_t>(qu, INT32_MIN, INT32_MAX));
-      uv[1] = int32_t(clamp_to<int64_t>(qv, INT32_MIN, INT32_MAX));
-    }
+    // (Clamped only outside the triangle: inside, the coordinates are means of its vertices'.)
+    clamped_coordinates(texture_floor_quotient(n_[0], n_[2]), texture_floor_quotient(n_[1], n_[2]), uv);
     ML_HOST_UNROLL for (int k = 0; k < 3; ++k) n_[k] += s_.dx[k];
   }
 

@@ -648,11 +648,6 @@ struct MaskRuns {
 };
 
 #ifndef ML_TEXTURE_RUNS_GENERAL_ONLY
-// A small triangle's samples (TexturePlanes::exact): coordinates sample by sample along each run
-// (with_steps: its box's sums, or each sample's own), each sample's colour through the table
-// (nearest filtering: its texel taken here, format F known; bilinear, the white table's texels
-// filtered, then multiplied) or decoded, without one. (The firmware, ML_TEXTURE_RUNS_GENERAL_ONLY,
-// for its code budget: texture_rows' samples one by one, each through texture_uv.)
 // body(steps) with the small triangle's steps: its box's sums (boxed) or each sample's own.
 template <typename Body>
 ML_RUN_HELPER void with_steps(const TexturePlanes& p, Body body) {
@@ -682,6 +677,11 @@ ML_RUN_HELPER void bilinear_runs(TexturePlanes& p, const TextureTexels& t, const
   });
 }
 
+// A small triangle's samples (TexturePlanes::exact): coordinates sample by sample along each run
+// (with_steps), each sample's colour through the table (nearest filtering: its texel taken here,
+// format F known; bilinear, the white table's texels filtered, then multiplied) or decoded, without
+// one. (The firmware, ML_TEXTURE_RUNS_GENERAL_ONLY, for its code budget: texture_rows' samples one
+// by one, each through texture_uv.)
 template <TexelFormat F, typename Runs>
 ML_RUN_HELPER void exact_runs(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut, Pixel lut_colour,
                 Pixel colour, Runs runs, Pixel* out) {
