@@ -605,6 +605,15 @@ struct Renderer {
   [[no_unique_address]] BatchTextures batch_textures;  // the activated triangles' textures (boards: empty)
 #if UINTPTR_MAX > 0xFFFFFFFFu
   KeptSampling kept_sampling;  // small triangles' spans' sampling (texture_run, 64-bit hosts)
+  // A row's small textured triangles' spans, waiting to be sampled in one call (sample_small_spans):
+  // a span is a few samples, and a call and its set-up each cost about as much. All of one texture,
+  // whose bytes stay put while they wait: any other use of the pager samples them first.
+  struct PendingSpans {
+    static constexpr uint32_t kMax = 32;
+    SmallSpan span[kMax];
+    uint32_t count = 0, texture = kNone;
+    const uint8_t* bytes = nullptr;
+  } pending;
 #endif
 
   // per sample row (l > 1)
@@ -731,7 +740,7 @@ struct Renderer {
   // falls back). Texture coordinates come from the whole triangle, as in the tiler.
   Pixel texture(uint32_t slot, uint32_t id, int32_t x, int32_t y, Pixel c) {
     const uint32_t texture = tex_of[slot] & ~kTexReady;
-    const uint8_t* bytes = pager.get(texture);
+    const uint8_t* bytes = texture_bytes(texture, false, y);
     if (!bytes) return c;
     int32_t uv[2];
     TexturePlanes& planes = planes_of(slot, id);
@@ -766,14 +775,17 @@ struct Renderer {
     }
     return tex_planes[slot];
   }
-  // Samples [x0, x1] of row y of textured piece `a` in a flat colour, into out: one texture_row (the
-  // same colours as shade() sample by sample). False when the piece is smooth (left to shade()).
-  bool texture_run(ActiveTri& a, int32_t x0, int32_t x1, int32_t y, Pixel* out) {
+  // Samples [x0, x1] of row y of textured piece `a` in a flat colour, into keep_surface: one
+  // texture_row, or for a small triangle a span sampled with the row's others (the same colours as
+  // shade() sample by sample). False when the piece is smooth (left to shade()).
+  bool texture_run(ActiveTri& a, int32_t x0, int32_t x1, int32_t y) {
+    Pixel* const out = keep_surface + x0;
     ensure_colors(a);
     if (a.flags & kSmooth) return false;
     const uint32_t slot = slot_of(a), texture = tex_of[slot] & ~kTexReady, n = uint32_t(x1 - x0 + 1);
     stats->shading_calls += n;
-    const uint8_t* bytes = pager.get(texture);
+    TexturePlanes& planes = planes_of(slot, a.id);
+    const uint8_t* bytes = texture_bytes(texture, planes.exact, y);
     if (!bytes) {
       for (uint32_t i = 0; i < n; ++i) out[i] = a.color[0];
       return true;
@@ -782,10 +794,10 @@ struct Renderer {
     // or for a run long enough to have a table of the colour made. A small triangle's is the
     // texture's white one (TexturePager::white_lut).
     const Pixel c = a.color[0];
-    TexturePlanes& planes = planes_of(slot, a.id);
     if (planes.exact) {
-#if UINTPTR_MAX > 0xFFFFFFFFu  // kept from small triangle to small triangle
-      sample_row(kept_sampling.for_texture(pager, *scene, texture, bytes, planes, c), x0, y, int32_t(n), out);
+#if UINTPTR_MAX > 0xFFFFFFFFu  // sampled with the row's others (sample_small_spans)
+      if (pending.count == 0) pending.texture = texture, pending.bytes = bytes;
+      pending.span[pending.count++] = SmallSpan{&planes, c, x0, int32_t(n)};
 #else
       const Pixel* white = pager.white_lut(texture, bytes);
       texture_row(planes, scene->texture_texels[texture], bytes, white, 0xFFFFFF, c, x0, y, int32_t(n), out,
@@ -804,6 +816,44 @@ struct Renderer {
     texture_row(planes, scene->texture_texels[texture], bytes, l.lut, l.lut_colour, c, x0, y, int32_t(n), out,
                 pager.lanes_for(texture, l.lut, l.lut_colour, c, false));
     return true;
+  }
+  // The texture's bytes (TexturePager::get). The waiting small spans are sampled first, unless this is
+  // for another small span of their texture (it joins them: their bytes are its).
+  const uint8_t* texture_bytes(uint32_t texture, bool small, int32_t y) {
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    if (small && pending.count != 0 && pending.texture == texture && pending.count < PendingSpans::kMax)
+      return pending.bytes;
+    sample_small_spans(y);
+#else
+    (void)small, (void)y;
+#endif
+    return pager.get(texture);
+  }
+#if UINTPTR_MAX > 0xFFFFFFFFu
+  // texture_run's answer for a span of a small triangle of the waiting spans' texture, its planes
+  // and colour made (the common case: texture_run took one of its spans before), without its checks.
+  bool join_small_span(ActiveTri& a, int32_t x0, int32_t x1) {
+    const uint32_t slot = slot_of(a);  // spans wait only in frames of one colour a sample (texture_run)
+    if (pending.count == 0 || pending.count == PendingSpans::kMax || tex_of[slot] != (pending.texture | kTexReady) ||
+        !tex_planes[slot].exact || (a.flags & (kColorsReady | kSmooth)) != kColorsReady)
+      return false;
+    stats->shading_calls += uint64_t(x1 - x0 + 1);
+    pending.span[pending.count++] = SmallSpan{&tex_planes[slot], a.color[0], x0, x1 - x0 + 1};
+    return true;
+  }
+#endif
+  // The waiting spans of row y sampled, into the row.
+  void sample_small_spans(int32_t y) {
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    if (pending.count == 0) return;
+    const SmallSpan& first = pending.span[0];
+    const TextureSampling& sampling =
+        kept_sampling.for_texture(pager, *scene, pending.texture, pending.bytes, *first.planes, first.colour);
+    sample_spans(sampling, pending.span, pending.count, y, keep_surface);
+    pending.count = 0;
+#else
+    (void)y;
+#endif
   }
   bool textured(uint32_t slot) const { return tex_of && tex_of[slot] != kNone; }
   uint32_t slot_of(const ActiveTri& a) const { return uint32_t(&a - act); }
@@ -994,13 +1044,16 @@ struct Renderer {
     other_run(a, x0, x1, y);
   }
   ML_HOST_NOINLINE void other_run(ActiveTri& a, int32_t x0, int32_t x1, int32_t y) {
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    if (join_small_span(a, x0, x1)) return;
+#endif
     if (opt->shading == ShadingMode::Ids) {
       fill_pixels(keep_surface, x0, x1, a.id + 1);
       return;
     }
     if (!s.accumulate) {
       const bool has_texture = textured(slot_of(a));
-      if (has_texture && texture_run(a, x0, x1, y, keep_surface + x0)) return;
+      if (has_texture && texture_run(a, x0, x1, y)) return;
       ensure_colors(a);
       if (!has_texture && !(a.flags & kSmooth)) {  // one colour: shade()'s answer, counted as its calls
         stats->shading_calls += uint64_t(x1 - x0 + 1);
@@ -1292,6 +1345,7 @@ struct Renderer {
       } else {
         order_row(y);
         sweep(y);
+        sample_small_spans(y);
       }
       pager.rows_done(uint32_t(y));  // frees the textures whose last row this was
       const int32_t py = finished_row(y);

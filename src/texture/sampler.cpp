@@ -84,13 +84,13 @@ struct LutTexels {
         lut(table),
         row(F == TexelFormat::Grey4 ? (uint32_t(t.width) + 1) / 2 : t.width) {}
   __attribute__((always_inline)) Entry operator()(int32_t x, int32_t y) const {
-    const uint32_t row = uint32_t(y) * this->row;
-    if (F == TexelFormat::Palette8) return lut[texels[row + uint32_t(x)]];
+    const uint32_t row = uint32_t(y) * this->row;  // indices widened as addresses: no zero-extension a texel
+    if (F == TexelFormat::Palette8) return lut[texels[uintptr_t(row) + uint32_t(x)]];
     if (F == TexelFormat::Grey4) {
-      const uint32_t byte = texels[row + uint32_t(x) / 2];
+      const uint32_t byte = texels[uintptr_t(row) + uint32_t(x) / 2];
       return lut[((x & 1) ? byte >> 4 : byte) & 15];
     }
-    const uint32_t c = load16(texels + 2 * (row + uint32_t(x)));
+    const uint32_t c = load16(texels + 2 * (uintptr_t(row) + uint32_t(x)));
     return lut[c >> 11] | lut[32 + ((c >> 5) & 63)] | lut[96 + (c & 31)];
   }
 };
@@ -131,6 +131,15 @@ inline Spread modulate_spread(Spread s, const Tint& c) {
   const uint64_t x = (s & 0xFF) * c.b + (s & 0xFF0000) * c.r + (s & 0xFF00000000ull) * c.g + 0x0000008000800080ull;
   return ((x + ((x >> 8) & kSpreadMask)) >> 8) & kSpreadMask;
 }
+// A grey colour's (its three channels alike: white light on a white base colour, the common textured
+// case) one multiplier for all three lanes, or 0 (1..255 for grey; black takes modulate_spread).
+inline uint64_t grey_of(const Tint& c) { return c.b == c.r && c.b == c.g ? c.b : 0; }
+// modulate_spread for a grey colour: one product for the three lanes (each lane's value <= 255, so
+// each product stays in its lane), rounded alike: the same values.
+inline Spread modulate_spread_grey(Spread s, uint64_t grey) {
+  const uint64_t x = s * grey + 0x0000008000800080ull;
+  return ((x + ((x >> 8) & kSpreadMask)) >> 8) & kSpreadMask;
+}
 #else
 using Spread = Pixel;
 inline Spread spread(Pixel c) { return c; }
@@ -139,6 +148,8 @@ inline Spread lerp_spread(Spread a, Spread b, uint32_t f) { return lerp(a, b, f)
 using Tint = Pixel;
 inline Tint tint_of(Pixel c) { return c; }
 inline Spread modulate_spread(Spread s, Tint c) { return modulate_texel(s, c); }
+inline uint32_t grey_of(Tint) { return 0; }
+inline Spread modulate_spread_grey(Spread s, uint32_t grey) { return modulate_texel(s, grey * 0x010101u); }
 #endif
 
 // The 2x2 texels bilinear filtering blends at uv, and the blend's weights (1/256).
@@ -150,25 +161,30 @@ struct Taps {
 // Repeat: both axes repeat (wrapping is a mask).
 template <bool Repeat>
 __attribute__((always_inline)) inline Taps bilinear_taps(const TextureTexels& t, int32_t u, int32_t v) {
+  Taps k;
+  if (Repeat) {
+    // Modulo 2^32: the bits kept (the fraction's 8 below bit 16, the texel's at most
+    // kMaxTextureDimBits above it) lie below bit 32: the same values as in 64 bits (below).
+    const uint32_t bu = uint32_t(u) * t.width - 32768u, bv = uint32_t(v) * t.height - 32768u;
+    const uint32_t mu = t.width - 1, mv = t.height - 1;
+    k.fx = (bu >> 8) & 0xFF;
+    k.fy = (bv >> 8) & 0xFF;
+    k.xa = int32_t((bu >> 16) & mu);
+    k.xb = int32_t((uint32_t(k.xa) + 1) & mu);
+    k.ya = int32_t((bv >> 16) & mv);
+    k.yb = int32_t((uint32_t(k.ya) + 1) & mv);
+    return k;
+  }
   // Texel space: u * width in Q16 (|u| < 2^31, width <= 2^10: below 2^41). Texel centres sit at
   // half-integers: shift by half a texel, then blend the 2x2 neighbours.
   const int64_t bu = int64_t(u) * t.width - 32768, bv = int64_t(v) * t.height - 32768;
   const int64_t x0 = bu >> 16, y0 = bv >> 16;
-  Taps k;
   k.fx = uint32_t((bu >> 8) & 0xFF);
   k.fy = uint32_t((bv >> 8) & 0xFF);
-  if (Repeat) {
-    const int32_t mu = int32_t(t.width) - 1, mv = int32_t(t.height) - 1;
-    k.xa = int32_t(x0) & mu;
-    k.xb = (k.xa + 1) & mu;
-    k.ya = int32_t(y0) & mv;
-    k.yb = (k.ya + 1) & mv;
-  } else {
-    k.xa = wrap(x0, t.width, t.wrap_s);
-    k.xb = wrap(x0 + 1, t.width, t.wrap_s);
-    k.ya = wrap(y0, t.height, t.wrap_t);
-    k.yb = wrap(y0 + 1, t.height, t.wrap_t);
-  }
+  k.xa = wrap(x0, t.width, t.wrap_s);
+  k.xb = wrap(x0 + 1, t.width, t.wrap_s);
+  k.ya = wrap(y0, t.height, t.wrap_t);
+  k.yb = wrap(y0 + 1, t.height, t.wrap_t);
   return k;
 }
 
@@ -183,14 +199,15 @@ __attribute__((always_inline)) inline Pixel bilinear(const TextureTexels& t, int
 
 // A small triangle's bilinear filtering (the texels filtered, then multiplied: docs/textures.md):
 // modulate_texel(bilinear(t, u, v, fetch), colour) for tint = tint_of(colour), the blend and the
-// product in lanes (the same values).
-template <bool Repeat, typename Fetch>
+// product in lanes (the same values). Grey: the colour is grey, grey_of(tint) its multiplier.
+template <bool Repeat, bool Grey, typename Fetch>
 __attribute__((always_inline)) inline Pixel bilinear_tinted(const TextureTexels& t, int32_t u, int32_t v, Fetch fetch,
                                                             const Tint& tint) {
   const Taps k = bilinear_taps<Repeat>(t, u, v);
   const Spread top = lerp_spread(spread(fetch(k.xa, k.ya)), spread(fetch(k.xb, k.ya)), k.fx);
   const Spread bottom = lerp_spread(spread(fetch(k.xa, k.yb)), spread(fetch(k.xb, k.yb)), k.fx);
-  return unspread(modulate_spread(lerp_spread(top, bottom, k.fy), tint));
+  const Spread filtered = lerp_spread(top, bottom, k.fy);
+  return unspread(Grey ? modulate_spread_grey(filtered, grey_of(tint)) : modulate_spread(filtered, tint));
 }
 
 // Stepped coordinates a (start) and s (step) of two axes, to be shifted right by shift[0] and
@@ -660,20 +677,26 @@ ML_RUN_HELPER void with_steps(const TexturePlanes& p, Body body) {
   }
 }
 
+// A flag as a type: a generic lambda's template argument.
+template <bool B>
+struct Flag {
+  static constexpr bool value = B;
+};
+
 // Bilinear samples along the runs (with_steps' coordinates), each the filter of the texels `fetch`
-// gives, then multiplied by `tint`.
+// gives, then multiplied by `tint`: a loop for each of repeat or not, a grey colour or not.
 template <typename Fetch, typename Runs>
 ML_RUN_HELPER void bilinear_runs(TexturePlanes& p, const TextureTexels& t, const Fetch& fetch, const Tint& tint, bool repeat,
                                  Runs runs, Pixel* out) {
+  const bool grey = grey_of(tint) != 0;
   with_steps(p, [&](auto& steps) ML_RUN_LAMBDA {
-    if (repeat)
+    const auto each = [&](auto repeats, auto greys) ML_RUN_LAMBDA {
       runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
-        *at = bilinear_tinted<true>(t, uv[0], uv[1], fetch, tint);
+        *at = bilinear_tinted<decltype(repeats)::value, decltype(greys)::value>(t, uv[0], uv[1], fetch, tint);
       });
-    else
-      runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
-        *at = bilinear_tinted<false>(t, uv[0], uv[1], fetch, tint);
-      });
+    };
+    if (repeat) grey ? each(Flag<true>{}, Flag<true>{}) : each(Flag<true>{}, Flag<false>{});
+    else grey ? each(Flag<false>{}, Flag<true>{}) : each(Flag<false>{}, Flag<false>{});
   });
 }
 
@@ -960,10 +983,27 @@ template <TexelFormat F>
 void table_row(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out) {
   exact_runs<F>(*s.planes, *s.texture, s.bytes, s.lut, s.lut_colour, s.colour, RowRuns{{}, x, y, n, y + 1}, out);
 }
+// A row's small-triangle spans through one loop: what they share (the texture, its table or lanes)
+// looked at once.
+template <TexelFormat F>
+void lanes_spans(const TextureSampling& s, const SmallSpan* spans, uint32_t count, int32_t y, Pixel* row) {
+  const TextureTexels& t = *s.texture;
+  const LutTexels<F, Spread> fetch(t, s.bytes, s.lanes);
+  const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
+  for (const SmallSpan *sp = spans, *end = spans + count; sp != end; ++sp)
+    bilinear_runs(*sp->planes, t, fetch, tint_of(sp->colour), repeat, RowRuns{{}, sp->x, y, sp->n, y + 1}, row + sp->x);
+}
+template <TexelFormat F>
+void table_spans(const TextureSampling& s, const SmallSpan* spans, uint32_t count, int32_t y, Pixel* row) {
+  for (const SmallSpan *sp = spans, *end = spans + count; sp != end; ++sp)
+    exact_runs<F>(*sp->planes, *s.texture, s.bytes, s.lut, s.lut_colour, sp->colour, RowRuns{{}, sp->x, y, sp->n, y + 1},
+                  row + sp->x);
+}
 template <TexelFormat F>
 void exact_sampling(TextureSampling* s, bool in_lanes) {
   s->block = in_lanes ? lanes_block<F> : table_block<F>;
   s->row = in_lanes ? lanes_row<F> : table_row<F>;
+  s->spans = in_lanes ? lanes_spans<F> : table_spans<F>;
 }
 #endif
 void any_block(const TextureSampling& s, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride) {
@@ -972,11 +1012,16 @@ void any_block(const TextureSampling& s, uint64_t mask, int32_t x, int32_t y, Pi
 void any_row(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out) {
   texture_rows(*s.planes, *s.texture, s.bytes, s.lut, s.lut_colour, s.colour, x, y, n, 1, out, s.lanes);
 }
+void any_spans(const TextureSampling& s, const SmallSpan* spans, uint32_t count, int32_t y, Pixel* row) {
+  for (const SmallSpan *sp = spans, *end = spans + count; sp != end; ++sp)
+    texture_rows(*sp->planes, *s.texture, s.bytes, s.lut, s.lut_colour, sp->colour, sp->x, y, sp->n, 1, row + sp->x,
+                 s.lanes);
+}
 }  // namespace
 
 TextureSampling texture_sampling(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes, const Pixel* lut,
                                  Pixel lut_colour, Pixel colour, const uint64_t* lanes) {
-  TextureSampling s{&p, &t, bytes, lut, lut_colour, colour, lanes, any_block, any_row};
+  TextureSampling s{&p, &t, bytes, lut, lut_colour, colour, lanes, any_block, any_row, any_spans};
 #if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
   if (!p.exact) return s;  // as runs_of and texture_rows
   const bool in_lanes = lanes && blends_table_as_is(t, true, lut_colour, colour);

@@ -103,7 +103,13 @@ void texture_runs(TexturePlanes& planes, const TextureTexels& texture, const uin
 // sample_block: texture_runs for the set bits of an 8x8 mask (bit 8 r + c: sample (x + c, y + r)),
 // the colour of sample (x + c, y + r) into out[r stride + c] (a block buffer, or the band itself): the
 // tiler's blocks, without a list of their runs. sample_row: texture_row's samples x .. x + n - 1 of
-// row y (the scanline renderer's spans).
+// row y (the scanline renderer's spans). sample_spans: several small triangles' spans of row y, each
+// with its own planes and colour, in one call (the scanline renderer's row of small triangles).
+struct SmallSpan {
+  TexturePlanes* planes;  // a small triangle's (TexturePlanes::exact)
+  Pixel colour;
+  int32_t x, n;           // samples x .. x + n - 1, their colours into row[x .. x + n - 1]
+};
 struct TextureSampling {
   TexturePlanes* planes;
   const TextureTexels* texture;
@@ -113,6 +119,7 @@ struct TextureSampling {
   const uint64_t* lanes;
   void (*block)(const TextureSampling& s, uint64_t mask, int32_t x, int32_t y, Pixel* out, uint32_t stride);
   void (*row)(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out);
+  void (*spans)(const TextureSampling& s, const SmallSpan* spans, uint32_t count, int32_t y, Pixel* row);
 };
 TextureSampling texture_sampling(TexturePlanes& planes, const TextureTexels& texture, const uint8_t* bytes,
                                  const Pixel* lut, Pixel lut_colour, Pixel colour, const uint64_t* lanes = nullptr);
@@ -121,6 +128,9 @@ inline void sample_block(const TextureSampling& s, uint64_t mask, int32_t x, int
 }
 inline void sample_row(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out) {
   s.row(s, x, y, n, out);
+}
+inline void sample_spans(const TextureSampling& s, const SmallSpan* spans, uint32_t count, int32_t y, Pixel* row) {
+  s.spans(s, spans, count, y, row);
 }
 
 }  // namespace ml

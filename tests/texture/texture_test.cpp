@@ -621,6 +621,27 @@ TEST(TexturePager, PoolSweepGivesTheSameImageWithMoreReloads) {
   }
 }
 
+// Small triangles of several textures in one row, with a pool of only the largest texture: the
+// scanline renderer samples a row's small spans together, and must sample them before the pager loads
+// another texture into their bytes (rows here alternate textures, so it reloads).
+TEST(TexturePager, SmallTrianglesOfSeveralTexturesPerRowGiveTheSameImageWithReloads) {
+  const mlhost::LoadedScene& s = load(textest::model("textureTransform/TextureTransformTest.gltf"));
+  ASSERT_GE(s.scene.texture_count, 2u) << s.name;
+  const ml::Camera cam = textest::camera_for(s, 160, 120);
+  for (ml::RendererKind r : {ml::RendererKind::Scanline, ml::RendererKind::Tiler}) {
+    const Frame all = textest::render(s.scene, cam, textest::options(r));
+    ml::RenderOptions o = textest::options(r);
+    o.texture_pool_bytes = ml::texture_pool_needs(s.scene).minimum;
+    const Frame least = textest::render(s.scene, cam, o);
+    ASSERT_TRUE(all.status.ok() && least.status.ok());
+    EXPECT_EQ(least.stats.texture_fallbacks, 0u);
+    EXPECT_EQ(least.pixels, all.pixels);
+    if (r == ml::RendererKind::Scanline) {
+      EXPECT_GT(least.stats.texture_reloads, 0u);
+    }
+  }
+}
+
 TEST(TexturePager, FailingSourceCompletesEveryFrame) {
   const mlhost::LoadedScene& s = load("builtin:banded");
   const ml::Camera cam = textest::camera_for(s, 160, 120);
