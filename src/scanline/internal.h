@@ -38,6 +38,7 @@ static_assert(sizeof(YSortEntry) == 8, "YSortEntry layout");
 // yActiveList element: the piece's screen-space parameters (§4) and its span on the current row.
 enum : uint8_t {
   kWeightsReady = 1,    // weight_recip and weight_shift are set
+  kSmallTextured = 2,   // a small textured piece of one colour, its planes and colours made (texture_run)
   kFront = 8,
   kColorsReady = 16,
   kSmooth = 32,

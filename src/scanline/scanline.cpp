@@ -798,6 +798,7 @@ struct Renderer {
 #if UINTPTR_MAX > 0xFFFFFFFFu  // sampled with the row's others (sample_small_spans)
       if (pending.count == 0) pending.texture = texture, pending.bytes = bytes;
       pending.span[pending.count++] = SmallSpan{&planes, c, x0, int32_t(n)};
+      a.flags |= kSmallTextured;
 #else
       const Pixel* white = pager.white_lut(texture, bytes);
       texture_row(planes, scene->texture_texels[texture], bytes, white, 0xFFFFFF, c, x0, y, int32_t(n), out,
@@ -833,9 +834,9 @@ struct Renderer {
   // texture_run's answer for a span of a small triangle of the waiting spans' texture, its planes
   // and colour made (the common case: texture_run took one of its spans before), without its checks.
   bool join_small_span(ActiveTri& a, int32_t x0, int32_t x1) {
-    const uint32_t slot = slot_of(a);  // spans wait only in frames of one colour a sample (texture_run)
-    if (pending.count == 0 || pending.count == PendingSpans::kMax || tex_of[slot] != (pending.texture | kTexReady) ||
-        !tex_planes[slot].exact || (a.flags & (kColorsReady | kSmooth)) != kColorsReady)
+    if (!(a.flags & kSmallTextured)) return false;
+    const uint32_t slot = slot_of(a);
+    if (pending.count == 0 || pending.count == PendingSpans::kMax || tex_of[slot] != (pending.texture | kTexReady))
       return false;
     stats->shading_calls += uint64_t(x1 - x0 + 1);
     pending.span[pending.count++] = SmallSpan{&tex_planes[slot], a.color[0], x0, x1 - x0 + 1};
