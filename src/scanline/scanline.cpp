@@ -602,6 +602,7 @@ struct Renderer {
   TexturePlanes* tex_planes = nullptr;
   SlotLut* tex_lut = nullptr;
   static constexpr uint32_t kTexReady = 0x80000000u;
+  static constexpr uint32_t kTexturedChunk = 64;  // samples a supersampled textured run makes at once
   [[no_unique_address]] BatchTextures batch_textures;  // the activated triangles' textures (boards: empty)
 #if UINTPTR_MAX > 0xFFFFFFFFu
   KeptSampling kept_sampling;  // small triangles' spans' sampling (texture_run, 64-bit hosts)
@@ -775,17 +776,18 @@ struct Renderer {
     }
     return tex_planes[slot];
   }
-  // Samples [x0, x1] of row y of textured piece `a` in a flat colour, into keep_surface: one
-  // texture_row, or for a small triangle a span sampled with the row's others (the same colours as
-  // shade() sample by sample). False when the piece is smooth (left to shade()).
-  bool texture_run(ActiveTri& a, int32_t x0, int32_t x1, int32_t y) {
-    Pixel* const out = keep_surface + x0;
+  // Samples [x0, x1] of row y of textured piece `a` in a flat colour, into out: one texture_row,
+  // or for a small triangle with kWait (one sample a pixel, out = keep_surface + x0) a span sampled
+  // with the row's others (the same colours as shade() sample by sample). False when the piece is
+  // smooth (left to shade()).
+  template <bool kWait>
+  bool texture_run(ActiveTri& a, int32_t x0, int32_t x1, int32_t y, Pixel* out) {
     ensure_colors(a);
     if (a.flags & kSmooth) return false;
     const uint32_t slot = slot_of(a), texture = tex_of[slot] & ~kTexReady, n = uint32_t(x1 - x0 + 1);
     stats->shading_calls += n;
     TexturePlanes& planes = planes_of(slot, a.id);
-    const uint8_t* bytes = texture_bytes(texture, planes.exact, y);
+    const uint8_t* bytes = texture_bytes(texture, kWait && planes.exact, y);
     if (!bytes) {
       for (uint32_t i = 0; i < n; ++i) out[i] = a.color[0];
       return true;
@@ -795,7 +797,12 @@ struct Renderer {
     // texture's white one (TexturePager::white_lut).
     const Pixel c = a.color[0];
     if (planes.exact) {
-#if UINTPTR_MAX > 0xFFFFFFFFu  // sampled with the row's others (sample_small_spans)
+#if UINTPTR_MAX > 0xFFFFFFFFu
+      if (!kWait) {  // kept from small triangle to small triangle
+        sample_row(kept_sampling.for_texture(pager, *scene, texture, bytes, planes, c), x0, y, int32_t(n), out);
+        return true;
+      }
+      // Sampled with the row's others (sample_small_spans).
       if (pending.count == 0) pending.texture = texture, pending.bytes = bytes;
       pending.span[pending.count++] = SmallSpan{&planes, c, x0, int32_t(n)};
       a.flags |= kSmallTextured;
@@ -1008,11 +1015,14 @@ struct Renderer {
   // A shading call for keepObj column c: compared with the pixel's kept colour and its neighbours'; a
   // difference forces shading of their later samples.
   [[gnu::always_inline]] Pixel shade_kept(ActiveTri& front, int32_t x, int32_t y, int32_t c, uint32_t key) {
+    return keep_shaded(shade(front, x, y), c, key);
+  }
+  // shade_kept's keeping of colour col, shaded for a sample of pixel c of surface `key`.
+  [[gnu::always_inline]] Pixel keep_shaded(Pixel col, int32_t c, uint32_t key) {
     uint32_t& kr = keep_rgb[c];
-    const Pixel col = shade(front, x, y);
-    bool differ = (kr & kValid) && differs(kr, col);
-    if (c > 0 && (keep_rgb[c - 1] & kValid) && differs(keep_rgb[c - 1], col)) differ = true;
-    if (c + 1 < s.width && (keep_rgb[c + 1] & kValid) && differs(keep_rgb[c + 1], col)) differ = true;
+    const bool differ = ((kr & kValid) && differs(kr, col)) ||  // the first that differs decides
+                        (c > 0 && (keep_rgb[c - 1] & kValid) && differs(keep_rgb[c - 1], col)) ||
+                        (c + 1 < s.width && (keep_rgb[c + 1] & kValid) && differs(keep_rgb[c + 1], col));
     uint32_t force = kr & kForce;
     if (differ) {
       force = kForce;
@@ -1054,7 +1064,7 @@ struct Renderer {
     }
     if (!s.accumulate) {
       const bool has_texture = textured(slot_of(a));
-      if (has_texture && texture_run(a, x0, x1, y)) return;
+      if (has_texture && texture_run<true>(a, x0, x1, y, keep_surface + x0)) return;
       ensure_colors(a);
       if (!has_texture && !(a.flags & kSmooth)) {  // one colour: shade()'s answer, counted as its calls
         stats->shading_calls += uint64_t(x1 - x0 + 1);
@@ -1091,19 +1101,38 @@ struct Renderer {
   // running sum and the generator in locals (stores into the keepObj arrays would otherwise make the
   // compiler reload them at every sample).
   void single_run_supersampled(ActiveTri& a, int32_t x0, int32_t x1, int32_t y) {
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    if (textured(slot_of(a))) return single_run_supersampled_as<true>(a, x0, x1, y);
+#endif
+    single_run_supersampled_as<false>(a, x0, x1, y);
+  }
+  // kTextured (64-bit hosts): a textured piece, its samples' colours made a chunk at a time through
+  // texture_run's loops when it has one colour (the same colours as shade()'s, sample by sample), kept
+  // as shade_kept keeps them.
+  template <bool kTextured>
+  void single_run_supersampled_as(ActiveTri& a, int32_t x0, int32_t x1, int32_t y) {
     const uint32_t key = surface_key(a);
     const int32_t last_px = s.width - 1, q = s.lat.q;
     const uint32_t p = p_threshold;
     const uint32_t* const surface = keep_surface;
     const uint32_t* const kept = keep_rgb;
     const bool tex = textured(slot_of(a));  // shaded at every sample, as in keep_or_shade
+    Pixel chunk[kTextured ? kTexturedChunk : 1];
+    bool chunked = kTextured;                // until texture_run leaves a smooth piece to shade()
+    int32_t chunk_x = x0, chunk_end = x0 - 1;  // chunk holds samples chunk_x .. chunk_end
     int32_t px = cur_px, right = cur_right;
     uint64_t sum = cur_sum;
     for (int32_t x = x0; x <= x1; ++x) {
       const int32_t c = x == right && px < last_px ? px + 1 : px;
       const uint32_t kr = kept[c];
       Pixel col;
-      if (surface[c] == key && !(kr & kForce) && !tex && rng.next() >= p) col = kr & 0xFFFFFF;
+      if (kTextured && chunked && x > chunk_end) {
+        chunk_x = x;
+        chunk_end = min_of(x1, x + int32_t(kTexturedChunk) - 1);
+        chunked = texture_run<false>(a, x, chunk_end, y, chunk);
+      }
+      if (kTextured && chunked) col = keep_shaded(chunk[x - chunk_x], c, key);
+      else if (surface[c] == key && !(kr & kForce) && !tex && rng.next() >= p) col = kr & 0xFFFFFF;
       else col = shade_kept(a, x, y, c, key);
       if (col != last_colour) { last_colour = col; last_packed = pack(col); }
       sum += last_packed;

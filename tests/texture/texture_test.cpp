@@ -544,6 +544,56 @@ TEST(TextureRender, SupersampledScanlineFiltersTexels) {
   EXPECT_GE(three.stats.shading_calls, three.stats.geometry_samples * 9 / 10);  // textured: every sample shaded
 }
 
+// The scanline renderer's supersampled textured runs (their colours made a run at a time) against
+// each sample's own colour, as a shading call gives it (sample_texture at the sample's coordinates):
+// a pixel whose l x l samples all lie in one textured triangle (its 3 x 3 pixel neighbourhood shows
+// that triangle at the centres, so by convexity its whole square does) is their rounded mean.
+TEST(TextureRender, SupersampledScanlineRunsGiveEachSampleItsOwnColour) {
+  for (const std::string& path : {std::string("builtin:banded"), textest::model("BoxTextured-glTF/BoxTextured.gltf")}) {
+    const mlhost::LoadedScene& s = load(path);
+    ASSERT_NE(s.scene.info, nullptr) << s.name;
+    const ml::Camera cam = textest::camera_for(s, 160, 120, 20.0);
+    ml::View view;
+    ASSERT_TRUE(ml::make_view(cam, &view).ok());
+    const Frame ids = textest::render(s.scene, cam, textest::options(ml::RendererKind::Scanline, ml::ShadingMode::Ids));
+    ASSERT_TRUE(ids.status.ok());
+    for (int aa : {2, 3, 4}) {
+      const Frame f = textest::render(s.scene, cam, textest::options(ml::RendererKind::Scanline, ml::ShadingMode::Unlit, aa));
+      ASSERT_TRUE(f.status.ok());
+      const ml::scan::Lattice lat = ml::scan::make_lattice(cam.width, cam.height, aa);
+      std::map<uint32_t, ml::TexturePlanes> planes;
+      size_t checked = 0;
+      for (int y = 1; y + 1 < cam.height; ++y)
+        for (int x = 1; x + 1 < cam.width; ++x) {
+          const uint32_t id = ids.pixels[size_t(y) * cam.width + x];
+          bool inside = id != 0;
+          for (int dy = -1; dy <= 1 && inside; ++dy)
+            for (int dx = -1; dx <= 1 && inside; ++dx) inside = ids.pixels[size_t(y + dy) * cam.width + x + dx] == id;
+          const uint32_t tri = id - 1, texture = inside ? ml::triangle_texture(s.scene, tri) : ml::kNone;
+          if (texture == ml::kNone) continue;
+          if (!planes.count(tri))
+            ml::triangle_texture_planes(s.scene, view, tri, texture, lat.den, lat.ox, lat.oy, &planes[tri]);
+          const ml::TextureTexels& t = s.scene.texture_texels[texture];
+          const ml::Material& m = s.scene.materials[s.scene.batches[ml::triangle_at(s.scene, tri).batch].material];
+          const ml::Pixel colour = ml::rgb(m.base_color[0], m.base_color[1], m.base_color[2]);  // unlit
+          uint32_t sum[3] = {0, 0, 0};
+          for (int32_t sy = y * lat.q; sy <= y * lat.q + lat.q; ++sy)
+            for (int32_t sx = x * lat.q; sx <= x * lat.q + lat.q; ++sx) {
+              int32_t uv[2];
+              ml::texture_uv(planes[tri], sx, sy, uv);
+              const ml::Pixel c = ml::sample_texture(t, s.scene.texels + t.offset, uv, colour, planes[tri].exact);
+              for (int k = 0; k < 3; ++k) sum[k] += (c >> (16 - 8 * k)) & 0xFF;
+            }
+          const uint32_t l2 = uint32_t(aa * aa);
+          const ml::Pixel want = ml::rgb((sum[0] + l2 / 2) / l2, (sum[1] + l2 / 2) / l2, (sum[2] + l2 / 2) / l2);
+          ASSERT_EQ(f.pixels[size_t(y) * cam.width + x], want) << path << " aa " << aa << " pixel " << x << "," << y;
+          ++checked;
+        }
+      EXPECT_GT(checked, 1000u) << path << " aa " << aa;
+    }
+  }
+}
+
 TEST(TextureRender, OversampledTilerTexturesEveryPixel) {
   const mlhost::LoadedScene& s = load("builtin:banded");
   const ml::Camera cam = textest::camera_for(s, 160, 120);
