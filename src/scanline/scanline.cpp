@@ -1126,10 +1126,12 @@ struct Renderer {
       const int32_t c = x == right && px < last_px ? px + 1 : px;
       const uint32_t kr = kept[c];
       Pixel col;
-      if (kTextured && chunked && x > chunk_end) {
-        chunk_x = x;
-        chunk_end = min_of(x1, x + int32_t(kTexturedChunk) - 1);
-        chunked = texture_run<false>(a, x, chunk_end, y, chunk);
+      if constexpr (kTextured) {
+        if (chunked && x > chunk_end) {
+          chunk_x = x;
+          chunk_end = min_of(x1, x + int32_t(kTexturedChunk) - 1);
+          chunked = texture_run<false>(a, x, chunk_end, y, chunk);
+        }
       }
       if (kTextured && chunked) col = keep_shaded(chunk[x - chunk_x], c, key);
       else if (surface[c] == key && !(kr & kForce) && !tex && rng.next() >= p) col = kr & 0xFFFFFF;
