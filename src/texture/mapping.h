@@ -161,12 +161,6 @@ inline int64_t texture_floor_quotient(int64_t n, int64_t d) {
 #endif
 }
 
-// The exact coordinates of samples x, x + 1, ... of a row, one at a time (exact_texture_uv's, the
-// planes stepped along the row): for a caller that uses each sample's coordinates at once.
-// Each sample divides sum uv_i e_i by sum e_i with the e_i shifted to kTextureWeightBits bits first
-// (one common shift: the divisor stays below 2^30), floored and clamped to int32. The sums are taken
-// from vertex 0: floor(sum uv_i w_i / W) = uv_0 + floor((d_1 w_1 + d_2 w_2) / W) for W = sum w_i and
-// d_i = uv_i - uv_0 (|d_i| < 2^32, |d_i w_i| < 2^60): two products a coordinate instead of three.
 // uv = (qu, qv) clamped to int32; false when clamped. Both within int32 is the usual case, one test:
 // q + 2^31 below 2^32 as unsigned.
 __attribute__((always_inline)) inline bool clamped_coordinates(int64_t qu, int64_t qv, int32_t uv[2]) {
@@ -180,6 +174,12 @@ __attribute__((always_inline)) inline bool clamped_coordinates(int64_t qu, int64
   return false;
 }
 
+// The exact coordinates of samples x, x + 1, ... of a row, one at a time (exact_texture_uv's, the
+// planes stepped along the row): for a caller that uses each sample's coordinates at once.
+// Each sample divides sum uv_i e_i by sum e_i with the e_i shifted to kTextureWeightBits bits first
+// (one common shift: the divisor stays below 2^30), floored and clamped to int32. The sums are taken
+// from vertex 0: floor(sum uv_i w_i / W) = uv_0 + floor((d_1 w_1 + d_2 w_2) / W) for W = sum w_i and
+// d_i = uv_i - uv_0 (|d_i| < 2^32, |d_i w_i| < 2^60): two products a coordinate instead of three.
 constexpr int kTextureWeightBits = 28;
 class ExactSteps {
  public:
