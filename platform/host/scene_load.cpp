@@ -69,14 +69,8 @@ bool validate(LoadedScene* out, std::string* error) {
 bool adopt_compiled(ml::CompileResult result, const std::string& name, LoadedScene* out, std::string* error) {
   out->name = name;
   if (!result.ok) {
+    // One line, which says why (a model with no triangles names what it has instead).
     *error = result.error.empty() ? name + ": compile failed" : result.error;
-    // Still one line: the compiler's first warning often says why (a model of points or lines only
-    // has "no triangles" because its primitives were skipped).
-    if (!result.warnings.empty()) {
-      *error += " (" + result.warnings[0];
-      if (result.warnings.size() > 1) *error += "; " + std::to_string(result.warnings.size() - 1) + " more warning(s)";
-      *error += ")";
-    }
     return false;
   }
   out->blob = std::move(result.blob);  // a big scene's blob is tens of megabytes: never copy it

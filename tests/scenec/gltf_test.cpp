@@ -267,7 +267,7 @@ TEST(SceneGltf, MissingFilesAndBuffers) {
   scenetest::write_file(dir + "/notjson.gltf", "{{{{ this is not json");
   compile_error(dir + "/notjson.gltf");
   scenetest::write_file(dir + "/noscene.gltf", "{\"asset\":{\"version\":\"2.0\"}}");
-  EXPECT_EQ(compile_error(dir + "/noscene.gltf"), "scene has no triangles");
+  EXPECT_EQ(compile_error(dir + "/noscene.gltf"), "scene has no triangles: the file has no meshes");
 }
 
 TEST(SceneGltf, TruncatedGlbFailsCleanly) {
@@ -529,6 +529,93 @@ TEST(SceneGltf, OptionalAttributesOfAnotherTypeAreLeftOutOrTrimmed) {
       if (uv[0] == int32_t(uvw[3 * k] * 65536) && uv[1] == int32_t(uvw[3 * k + 1] * 65536)) found = true;
     EXPECT_TRUE(found) << "vertex " << i << ": uv " << uv[0] << ", " << uv[1];
   }
+}
+
+// A NaN or infinite NORMAL or TEXCOORD_0 element (an exporter's normal of a degenerate face) leaves that
+// element out with a warning instead of refusing the model: the vertex is shaded with its face's normal
+// (stored as none) or takes texture coordinates (0, 0); the other vertices keep theirs. POSITION stays
+// refused (NonFiniteCoordinatesAreRejectedNamingTheAccessor).
+TEST(SceneGltf, NonFiniteNormalsAndTexcoordsAreLeftOutWithAWarning) {
+  const float nan = std::nanf(""), inf = INFINITY;
+  const std::vector<float> position = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const std::vector<float> normal = {0, 0, 1, nan, 0, 1, 0, 0, 1};
+  const std::vector<float> uv = {0.25f, 0.5f, 0.75f, 0.5f, inf, 1};
+  std::vector<uint8_t> bytes(4 * (position.size() + normal.size() + uv.size()));
+  std::memcpy(bytes.data(), position.data(), 36);
+  std::memcpy(bytes.data() + 36, normal.data(), 36);
+  std::memcpy(bytes.data() + 72, uv.data(), 24);
+  const std::string json =
+      "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":96,\"uri\":\"data:application/octet-stream;base64," +
+      base64(bytes) + "\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":36},{\"buffer\":0,\"byteOffset\":36,"
+      "\"byteLength\":36},{\"buffer\":0,\"byteOffset\":72,\"byteLength\":24}],\"accessors\":["
+      "{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
+      "{\"bufferView\":1,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
+      "{\"bufferView\":2,\"componentType\":5126,\"count\":3,\"type\":\"VEC2\"}],"
+      "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"NORMAL\":1,\"TEXCOORD_0\":2}}]}],"
+      "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}";
+  const CompileResult r = compile_gltf_memory(reinterpret_cast<const unsigned char*>(json.data()), json.size());
+  ASSERT_TRUE(r.ok) << r.error;
+  auto warned = [&](const std::string& text) {
+    return std::any_of(r.warnings.begin(), r.warnings.end(),
+                       [&](const std::string& w) { return w.find(text) != std::string::npos; });
+  };
+  EXPECT_TRUE(warned("1 NORMAL element(s) not finite")) << (r.warnings.empty() ? "" : r.warnings[0]);
+  EXPECT_TRUE(warned("1 TEXCOORD_0 element(s) not finite"));
+  Scene s;
+  ASSERT_TRUE(read_scene(r.blob.data(), r.blob.size, &s).ok());
+  ASSERT_EQ(s.triangle_count, 1u);
+  const Triangle& t = ml::triangle_at(s, 0);
+  int without_normal = 0, at_origin = 0;
+  for (int i = 0; i < 3; ++i) {
+    const int16_t* n = vertex_normal(s, t.v[i]);
+    if (n[0] == 0 && n[1] == 0 && n[2] == 0) ++without_normal;
+    else EXPECT_GT(n[2], 0) << "vertex " << i;  // (0, 0, 1) kept
+    const std::array<int32_t, 2> c = uv_of(s, t.v[i]);
+    if (c[0] == 0 && c[1] == 0) ++at_origin;
+  }
+  EXPECT_EQ(without_normal, 1);
+  EXPECT_EQ(at_origin, 1);
+}
+
+// "scene has no triangles" says why, in its one line: no meshes, no nodes, meshes no node uses, meshes
+// without primitives, primitives all skipped (naming the first), or primitives without a whole triangle.
+TEST(SceneGltf, NoTrianglesRefusalsSayWhy) {
+  const std::vector<float> position = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  std::vector<uint8_t> bytes(36);
+  std::memcpy(bytes.data(), position.data(), 36);
+  const std::string head = "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":"
+                           "\"data:application/octet-stream;base64," + base64(bytes) + "\"}],\"bufferViews\":"
+                           "[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
+                           "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},{\"bufferView\":0,"
+                           "\"componentType\":5126,\"count\":2,\"type\":\"VEC3\"}]";
+  const std::string triangle = "{\"attributes\":{\"POSITION\":0}}";
+  auto error_of = [](const std::string& json) {
+    const CompileResult r = compile_gltf_memory(reinterpret_cast<const unsigned char*>(json.data()), json.size());
+    EXPECT_FALSE(r.ok) << json;
+    return r.error;
+  };
+  EXPECT_EQ(error_of(head + "}"), "scene has no triangles: the file has no meshes");
+  EXPECT_EQ(error_of(head + ",\"meshes\":[{\"primitives\":[" + triangle + "]}],\"scenes\":[{\"nodes\":[]}]}"),
+            "scene has no triangles: the scene has no nodes");
+  EXPECT_EQ(error_of(head + ",\"meshes\":[{\"primitives\":[" + triangle + "]}],\"nodes\":[{}]}"),
+            "scene has no triangles: no node of the scene has a mesh");
+  EXPECT_EQ(error_of(head + ",\"meshes\":[{\"primitives\":[]}],\"nodes\":[{\"mesh\":0}]}"),
+            "scene has no triangles: its meshes have no primitives");
+  EXPECT_EQ(error_of(head + ",\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"mode\":1},"
+                            "{\"attributes\":{\"POSITION\":0},\"mode\":0}]}],\"nodes\":[{\"mesh\":0}]}"),
+            "scene has no triangles: mesh 0 primitive 0: mode LINES skipped (only triangles are drawn) (and 1 more "
+            "primitive(s) skipped)");
+  EXPECT_EQ(error_of(head + ",\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":1}}]}],"
+                            "\"nodes\":[{\"mesh\":0}]}"),
+            "scene has no triangles: its primitives hold no whole triangle (fewer than 3 indices or vertices)");
+  // A default scene named where the file has none: every root node is drawn, and the warning says so.
+  const std::string json = head + ",\"scene\":0,\"meshes\":[{\"primitives\":[" + triangle +
+                           "]}],\"nodes\":[{\"mesh\":0}]}";
+  const CompileResult r = compile_gltf_memory(reinterpret_cast<const unsigned char*>(json.data()), json.size());
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(std::any_of(r.warnings.begin(), r.warnings.end(), [](const std::string& w) {
+    return w == "default scene 0 named, but the file has no scenes: every root node used";
+  }));
 }
 
 // A refusal is one printable line even when the input's bytes are not UTF-8 (a model converted with

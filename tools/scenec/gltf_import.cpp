@@ -396,6 +396,7 @@ class Importer {
     for (int root : roots) {
       if (!visit(root)) return false;
     }
+    if (total_triangles_ == 0) return fail("scene has no triangles: " + why_no_triangles(roots));
     return true;
   }
 
@@ -413,6 +414,23 @@ class Importer {
   bool fail(const std::string& e) {
     *error_ = e;
     return false;
+  }
+
+  // Why the default scene gave no triangle, for the refusal's one line.
+  std::string why_no_triangles(const std::vector<int>& roots) const {
+    if (model_.meshes.empty()) return "the file has no meshes";
+    if (roots.empty()) return "the scene has no nodes";
+    if (meshes_used_ == 0) return "no node of the scene has a mesh";
+    if (primitives_ == 0) return "its meshes have no primitives";
+    if (skipped_ == primitives_) {
+      return first_skip_ + (skipped_ > 1 ? " (and " + std::to_string(skipped_ - 1) + " more primitive(s) skipped)" : "");
+    }
+    return "its primitives hold no whole triangle (fewer than 3 indices or vertices)";
+  }
+  // A primitive left out of the scene, with the warning that says why.
+  void skip_primitive(const std::string& why) {
+    if (skipped_++ == 0) first_skip_ = why;
+    warn(why);
   }
 
   bool check_extensions() {
@@ -433,7 +451,11 @@ class Importer {
     if (model_.defaultScene >= 0 && size_t(model_.defaultScene) < model_.scenes.size()) {
       scene = model_.defaultScene;
     } else {
-      if (model_.defaultScene >= 0) warn("default scene index out of range, using scene 0");
+      if (model_.defaultScene >= 0) {
+        warn(model_.scenes.empty() ? "default scene " + std::to_string(model_.defaultScene) +
+                                         " named, but the file has no scenes: every root node used"
+                                   : "default scene index out of range, using scene 0");
+      }
       if (!model_.scenes.empty()) scene = 0;
     }
     if (scene >= 0) {
@@ -637,8 +659,10 @@ class Importer {
   // An attribute the primitive can be drawn without (NORMAL, TEXCOORD_0), read as read_accessor does,
   // `components` per element, one per vertex (`count` of them). Another element type or another
   // count leaves it out with a warning (*out empty) instead of refusing the model; a TEXCOORD_0 of
-  // three components (UVW, as assimp's glTF exporter writes them) keeps its first two. A bad index,
-  // bytes or values still refuse it.
+  // three components (UVW, as assimp's glTF exporter writes them) keeps its first two. An element with
+  // a non-finite value (NaN or infinity, as some exporters write for a degenerate face's normal) is
+  // left out with a warning: its vertex has no normal (shading takes its face's) or texture
+  // coordinates (0, 0). A bad index or bytes still refuse it.
   bool read_optional(int index, int components, const std::string& semantic, size_t count, const std::string& where,
                      const std::string& what, std::vector<double>* out) {
     size_t read = 0;
@@ -651,7 +675,19 @@ class Importer {
       warn(where + ": " + semantic + " has " + kind + ", not " + std::to_string(components) + ": " + what + " ignored");
       return true;
     }
-    if (!read_accessor(index, have, semantic, out, &read)) return false;
+    size_t non_finite = 0;
+    if (!read_accessor(index, have, semantic, out, &read, false, &non_finite)) return false;
+    if (non_finite > 0) {
+      // The whole element goes (a normal of (0, 0, 0) is none: normalize3 leaves it so).
+      const size_t k = size_t(have);
+      for (size_t i = 0; i + k <= out->size(); i += k) {
+        bool finite = true;
+        for (size_t c = 0; c < k; ++c) finite = finite && std::isfinite((*out)[i + c]);
+        if (!finite) std::fill(out->begin() + long(i), out->begin() + long(i + k), 0.0);
+      }
+      warn(where + ": " + std::to_string(non_finite) + " " + semantic + " element(s) not finite: " +
+           (semantic == "NORMAL" ? "those vertices shaded with their face's normal" : "(0, 0) used there"));
+    }
     if (read != count) {
       warn(where + ": " + semantic + " count differs from POSITION count, " + what + " ignored");
       out->clear();
@@ -669,8 +705,10 @@ class Importer {
   }
 
   // Reads accessor `index` as doubles, `components` per element. Checks everything first.
+  // Non-finite values refuse the model, unless finite_only is false (*non_finite: how many elements
+  // hold one; read_optional's attributes).
   bool read_accessor(int index, int components, const std::string& semantic, std::vector<double>* out,
-                     size_t* count_out) {
+                     size_t* count_out, bool finite_only = true, size_t* non_finite = nullptr) {
     const std::string where = "accessor " + std::to_string(index) + " (" + semantic + ")";
     if (index < 0 || size_t(index) >= model_.accessors.size()) return fail(where + ": index out of range");
     const tinygltf::Accessor& acc = model_.accessors[size_t(index)];
@@ -712,9 +750,15 @@ class Importer {
       }
     }
     if (acc.sparse.isSparse && !apply_sparse(acc, components, csize, where, out)) return false;
-    for (double v : *out) {
-      if (!std::isfinite(v)) return fail(where + ": non-finite value");
+    size_t bad = 0;
+    for (size_t i = 0; i < count; ++i) {
+      bool finite = true;
+      for (int c = 0; c < components; ++c) finite = finite && std::isfinite((*out)[i * size_t(components) + size_t(c)]);
+      if (finite) continue;
+      if (finite_only) return fail(where + ": non-finite value");
+      ++bad;
     }
+    if (non_finite) *non_finite = bad;
     *count_out = count;
     return true;
   }
@@ -793,6 +837,7 @@ class Importer {
 
   bool add_mesh(int mesh_index, const Mat4& world, uint32_t mesh_node) {
     const tinygltf::Mesh& mesh = model_.meshes[size_t(mesh_index)];
+    ++meshes_used_;
     // Normals: the inverse-transpose of the linear part, as the cofactor matrix times sign(det).
     const double* m = world.data();
     auto at = [&](int row, int col) { return m[col * 4 + row]; };
@@ -810,12 +855,13 @@ class Importer {
     for (size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
       const tinygltf::Primitive& prim = mesh.primitives[pi];
       const std::string where = "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(pi);
+      ++primitives_;
       const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
       if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
           mode != TINYGLTF_MODE_TRIANGLE_FAN) {
         static const char* const kNames[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"};
         const std::string name = mode >= 0 && mode <= 3 ? kNames[mode] : "unknown mode " + std::to_string(mode);
-        warn(where + ": mode " + name + " skipped (only triangles are drawn)");
+        skip_primitive(where + ": mode " + name + " skipped (only triangles are drawn)");
         continue;
       }
       if (prim.extensions.count("KHR_draco_mesh_compression")) {
@@ -823,7 +869,7 @@ class Importer {
       }
       const auto pos_it = prim.attributes.find("POSITION");
       if (pos_it == prim.attributes.end()) {
-        warn(where + ": no POSITION attribute, skipped");
+        skip_primitive(where + ": no POSITION attribute, skipped");
         continue;
       }
       std::vector<double> pos, nrm, uv;
@@ -908,6 +954,10 @@ class Importer {
   bool warned_skin_ = false;
   size_t total_triangles_ = 0;
   size_t unbacked_elements_ = 0;
+  // Mesh instances of the scene, their primitives, those skipped, and the first skip's warning
+  // (why_no_triangles).
+  size_t meshes_used_ = 0, primitives_ = 0, skipped_ = 0;
+  std::string first_skip_;
 };
 
 std::string base_dir_of(const std::string& path) {
