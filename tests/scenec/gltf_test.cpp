@@ -618,16 +618,22 @@ TEST(SceneGltf, NoTrianglesRefusalsSayWhy) {
   }));
 }
 
-// A refusal is one printable line even when the input's bytes are not UTF-8 (a model converted with
-// a Latin-1 material name, quoted by the JSON parser's message): such bytes are written \xNN, while
-// well-formed UTF-8 is kept.
-TEST(SceneGltf, ErrorLinesEscapeBytesThatAreNotUtf8) {
-  const std::string json = "{\"asset\":{\"version\":\"2.0\"},\"materials\":[{\"name\":\"Terraind\xE4k\"}],"
-                           "\"meshes\":[],\"scenes\":[{\"nodes\":[]}]}";
-  const CompileResult r = compile_gltf_memory(reinterpret_cast<const unsigned char*>(json.data()), json.size());
+// Refusals and warnings are printable lines even when they quote bytes that are not (a control
+// character in a name): such bytes are written \xNN, while well-formed UTF-8 is kept. (Bytes that are
+// not UTF-8 are read as Latin-1 before parsing: ScenecLimits.BytesThatAreNotUtf8AreReadAsLatin1.)
+TEST(SceneGltf, ErrorAndWarningLinesEscapeBytesThatAreNotPrintable) {
+  const std::string raw = "{\"asset\":{\"version\":\"2.0\"},\"materials\":[{\"name\":\"Terrain\x01\"}],"
+                          "\"meshes\":[],\"scenes\":[{\"nodes\":[]}]}";
+  const CompileResult r = compile_gltf_memory(reinterpret_cast<const unsigned char*>(raw.data()), raw.size());
   ASSERT_FALSE(r.ok);
-  EXPECT_NE(r.error.find("\\xe4"), std::string::npos) << r.error;
   for (unsigned char c : r.error) EXPECT_TRUE(c >= 0x20 && c < 0x7F) << r.error;
+  const std::string escaped = "{\"asset\":{\"version\":\"2.0\"},\"materials\":[{\"alphaMode\":\"Bl\\u0001nk\"}],"
+                              "\"meshes\":[],\"scenes\":[{\"nodes\":[]}]}";
+  const CompileResult quoted =
+      compile_gltf_memory(reinterpret_cast<const unsigned char*>(escaped.data()), escaped.size());
+  EXPECT_TRUE(std::any_of(quoted.warnings.begin(), quoted.warnings.end(), [](const std::string& w) {
+    return w.find("'Bl\\x01nk'") != std::string::npos;
+  })) << (quoted.warnings.empty() ? "no warning" : quoted.warnings[0]);
   // Well-formed UTF-8 stays as it is (a warning quoting a material's alpha mode).
   const std::string utf8 = "{\"asset\":{\"version\":\"2.0\"},\"materials\":[{\"alphaMode\":\"Bl\xC3\xA4nk\"}],"
                            "\"meshes\":[],\"scenes\":[{\"nodes\":[]}]}";

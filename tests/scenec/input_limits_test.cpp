@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <string>
@@ -262,4 +263,47 @@ TEST(ScenecLimits, NormalsSurviveTinyAndHugeNodeScales) {
       EXPECT_EQ(v.normal[0], 0.0) << scale;
     }
   }
+}
+
+// JSON must be UTF-8, but exporters write names as they were given (assimp's glTF export of an OBJ
+// with a Latin-1 material name): such bytes are read as Latin-1 with a warning, in a .gltf and in a
+// .glb (whose JSON chunk grows and whose BIN chunk stays where the lengths say), instead of the JSON
+// parser refusing the whole file.
+TEST(ScenecLimits, BytesThatAreNotUtf8AreReadAsLatin1) {
+  const std::vector<float> tri = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  std::string gltf = positions_gltf(tri);
+  gltf.replace(gltf.find("{\"mesh\":0}"), 10, "{\"mesh\":0,\"name\":\"Terraind\xE4k \xB0\"}");
+  std::vector<uint8_t> bin(36);
+  std::memcpy(bin.data(), tri.data(), 36);
+  const std::vector<uint8_t> glb = make_glb(
+      "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36}],\"bufferViews\":[{\"buffer\":0,"
+      "\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],"
+      "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],\"scenes\":[{\"nodes\":[0]}],"
+      "\"nodes\":[{\"mesh\":0,\"name\":\"Terraind\xE4k \xB0\"}]}",
+      bin);
+  const std::vector<uint8_t> text(gltf.begin(), gltf.end());
+  for (const std::vector<uint8_t>* input : {&text, &glb}) {
+    SceneMesh mesh;
+    std::vector<std::string> warnings;
+    std::string error;
+    ASSERT_TRUE(import_gltf_memory(input->data(), input->size(), "", &mesh, &warnings, &error)) << error;
+    ASSERT_EQ(mesh.nodes.size(), 1u);
+    EXPECT_EQ(mesh.nodes[0].name, "Terraind\xC3\xA4k \xC2\xB0");
+    ASSERT_EQ(mesh.nodes[0].primitives.size(), 1u);
+    EXPECT_EQ(mesh.nodes[0].primitives[0].triangles.size(), 1u);
+    EXPECT_TRUE(std::find(warnings.begin(), warnings.end(),
+                          "the JSON holds 2 byte(s) that are not UTF-8: read as Latin-1") != warnings.end())
+        << (warnings.empty() ? "no warning" : warnings[0]);
+  }
+  // Well-formed UTF-8 is left as it is, without a warning.
+  std::string utf8 = positions_gltf(tri);
+  utf8.replace(utf8.find("{\"mesh\":0}"), 10, "{\"mesh\":0,\"name\":\"Terraind\xC3\xA4k\"}");
+  SceneMesh mesh;
+  std::vector<std::string> warnings;
+  std::string error;
+  ASSERT_TRUE(import_gltf_memory(reinterpret_cast<const unsigned char*>(utf8.data()), utf8.size(), "", &mesh,
+                                 &warnings, &error))
+      << error;
+  EXPECT_EQ(mesh.nodes[0].name, "Terraind\xC3\xA4k");
+  EXPECT_TRUE(warnings.empty()) << warnings[0];
 }

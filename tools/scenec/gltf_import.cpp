@@ -99,6 +99,51 @@ size_t utf8_sequence(const std::string& text, size_t i) {
   return n;
 }
 
+// The input with its JSON's bytes that are not UTF-8 read as Latin-1 (ISO 8859-1) and written as
+// UTF-8, two bytes each: JSON must be UTF-8, but exporters write names in the encoding they were
+// given (assimp's glTF export writes an OBJ's Latin-1 material name as it is), and the JSON parser
+// refuses the whole file for one such byte. A .glb gets its JSON chunk and lengths rewritten, its other
+// chunks kept. Returns how many bytes were re-encoded: 0 (and *out untouched) for well-formed UTF-8.
+size_t utf8_from_latin1(const unsigned char* bytes, size_t size, bool binary, const unsigned char* json,
+                        size_t json_length, std::vector<unsigned char>* out) {
+  if (!json || json_length == 0) return 0;
+  const std::string text(reinterpret_cast<const char*>(json), json_length);
+  std::string fixed;
+  size_t count = 0;
+  for (size_t i = 0; i < text.size();) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    const size_t n = c < 0x80 ? 1 : utf8_sequence(text, i);
+    if (n > 0) {
+      fixed.append(text, i, n);
+      i += n;
+      continue;
+    }
+    fixed += char(0xC0 | (c >> 6));
+    fixed += char(0x80 | (c & 0x3F));
+    ++count;
+    ++i;
+  }
+  if (count == 0) return 0;
+  out->clear();
+  if (!binary) {
+    out->assign(fixed.begin(), fixed.end());
+    return count;
+  }
+  // glb: header (magic, version, total length), then the JSON chunk (length, "JSON", its bytes padded
+  // with spaces to a multiple of 4), then the rest as it was.
+  while (fixed.size() % 4 != 0) fixed += ' ';
+  uint32_t stated = 0;
+  std::memcpy(&stated, bytes + 12, 4);
+  const size_t rest = 20 + size_t(stated) < size ? 20 + size_t(stated) : size;
+  const uint32_t chunk = uint32_t(fixed.size()), total = uint32_t(20 + fixed.size() + (size - rest));
+  out->assign(bytes, bytes + 20);
+  std::memcpy(out->data() + 8, &total, 4);
+  std::memcpy(out->data() + 12, &chunk, 4);
+  out->insert(out->end(), fixed.begin(), fixed.end());
+  out->insert(out->end(), bytes + rest, bytes + size);
+  return count;
+}
+
 // Text fit for a terminal line: well-formed UTF-8 kept, any other byte below 0x20 (tab aside), 0x7F or
 // not part of a well-formed sequence written as \xNN (a parser's message quotes the bytes it choked
 // on; a model's names may be in another encoding).
@@ -985,6 +1030,19 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
     const unsigned char* json = bytes;
     size_t json_length = size;
     if (binary) glb_json_chunk(bytes, size, &json, &json_length);
+    std::vector<unsigned char> reencoded;
+    if (const size_t n = utf8_from_latin1(bytes, size, binary, json, json_length, &reencoded)) {
+      if (reencoded.size() > kMaxGltfFileBytes) {
+        *error = "file too large for glTF";
+        return false;
+      }
+      warnings->push_back("the JSON holds " + std::to_string(n) + " byte(s) that are not UTF-8: read as Latin-1");
+      bytes = reencoded.data();
+      size = reencoded.size();
+      json = bytes;
+      json_length = size;
+      if (binary) glb_json_chunk(bytes, size, &json, &json_length);
+    }
     const JsonShape shape = json_shape(json, json_length);
     if (shape.depth > kMaxJsonDepth) {
       *error = "invalid glTF: JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels";
