@@ -655,3 +655,29 @@ TEST(SceneGltf, ExponentialNodeSharingIsBounded) {
   scenetest::write_file(dir + "/wide.gltf", "{\"asset\":{\"version\":\"2.0\"},\"scenes\":[{\"nodes\":[0]}],\"nodes\":[" + nodes + "]}");
   EXPECT_NE(compile_error(dir + "/wide.gltf").find("too many node instances"), std::string::npos);
 }
+
+// An image file missing beside the glTF is one warning naming the file (the glTF parser's own two
+// lines, one of which does not name it, are not passed on); the model still compiles, untextured.
+TEST(SceneGltf, AMissingImageFileIsOneWarningNamingIt) {
+  const std::vector<float> position = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  std::vector<uint8_t> bytes(36);
+  std::memcpy(bytes.data(), position.data(), 36);
+  const std::string dir = scenetest::temp_dir();
+  scenetest::write_file(
+      dir + "/m.gltf",
+      "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"data:application/octet-stream;base64," +
+          base64(bytes) + "\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
+          "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"images\":[{\"uri\":\"missing-texture.png\"}],"
+          "\"textures\":[{\"source\":0}],\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
+          "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"material\":0}]}],"
+          "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}");
+  const CompileResult r = compile_gltf_file(dir + "/m.gltf");
+  ASSERT_TRUE(r.ok) << r.error;
+  const std::vector<std::string> naming = {
+      "image 0: its file 'missing-texture.png' not read (missing beside the glTF, or unreadable), texture ignored"};
+  std::vector<std::string> about_the_file;
+  for (const std::string& w : r.warnings)
+    if (w.find("missing-texture.png") != std::string::npos || w.find("image[") != std::string::npos)
+      about_the_file.push_back(w);
+  EXPECT_EQ(about_the_file, naming);
+}

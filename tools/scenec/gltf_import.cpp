@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -1005,6 +1006,32 @@ class Importer {
   std::string first_skip_;
 };
 
+// The glTF parser's warnings, an image file it could not read said in one line that names the file
+// (the parser's own two: "File not found : F", then "Failed to load external 'uri' for image[N] name =
+// [...]", which does not).
+std::vector<std::string> image_file_warnings(const std::vector<std::string>& lines, const tinygltf::Model& model) {
+  static const std::string kNotFound = "File not found : ", kFailed = "Failed to load external 'uri' for image[";
+  std::vector<std::string> out;
+  for (const std::string& line : lines) {
+    if (line.compare(0, kNotFound.size(), kNotFound) == 0) {
+      const std::string file = line.substr(kNotFound.size());
+      const bool an_image = std::any_of(model.images.begin(), model.images.end(), [&](const tinygltf::Image& i) {
+        return !i.uri.empty() && i.uri == file;
+      });
+      if (an_image) continue;  // said by the image's line below
+    } else if (line.compare(0, kFailed.size(), kFailed) == 0) {
+      const size_t index = size_t(std::strtoul(line.c_str() + kFailed.size(), nullptr, 10));
+      if (index < model.images.size()) {
+        out.push_back("image " + std::to_string(index) + ": its file '" + printable(model.images[index].uri) +
+                      "' not read (missing beside the glTF, or unreadable), texture ignored");
+        continue;
+      }
+    }
+    out.push_back(line);
+  }
+  return out;
+}
+
 std::string base_dir_of(const std::string& path) {
   const size_t slash = path.find_last_of('/');
   return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
@@ -1076,7 +1103,7 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
       ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes), unsigned(size),
                                       base_dir);
     }
-    for (const std::string& w : split_lines(warn)) {
+    for (const std::string& w : image_file_warnings(split_lines(warn), model)) {
       if (warnings->size() < 100) warnings->push_back(w);
     }
     if (!ok) {
