@@ -597,6 +597,8 @@ TEST(SceneGltf, NoTrianglesRefusalsSayWhy) {
   EXPECT_EQ(error_of(head + "}"), "scene has no triangles: the file has no meshes");
   EXPECT_EQ(error_of(head + ",\"meshes\":[{\"primitives\":[" + triangle + "]}],\"scenes\":[{\"nodes\":[]}]}"),
             "scene has no triangles: the scene has no nodes");
+  EXPECT_EQ(error_of(head + ",\"meshes\":[{\"primitives\":[" + triangle + "]}]}"),
+            "scene has no triangles: the file has no nodes");
   EXPECT_EQ(error_of(head + ",\"meshes\":[{\"primitives\":[" + triangle + "]}],\"nodes\":[{}]}"),
             "scene has no triangles: no node of the scene has a mesh");
   EXPECT_EQ(error_of(head + ",\"meshes\":[{\"primitives\":[]}],\"nodes\":[{\"mesh\":0}]}"),

@@ -465,7 +465,7 @@ class Importer {
   // Why the default scene gave no triangle, for the refusal's one line.
   std::string why_no_triangles(const std::vector<int>& roots) const {
     if (model_.meshes.empty()) return "the file has no meshes";
-    if (roots.empty()) return "the scene has no nodes";
+    if (roots.empty()) return model_.scenes.empty() ? "the file has no nodes" : "the scene has no nodes";
     if (meshes_used_ == 0) return "no node of the scene has a mesh";
     if (primitives_ == 0) return "its meshes have no primitives";
     if (skipped_ == primitives_) {
@@ -729,7 +729,7 @@ class Importer {
       for (size_t i = 0; i + k <= out->size(); i += k) {
         bool finite = true;
         for (size_t c = 0; c < k; ++c) finite = finite && std::isfinite((*out)[i + c]);
-        if (!finite) std::fill(out->begin() + long(i), out->begin() + long(i + k), 0.0);
+        if (!finite) std::fill(out->begin() + std::ptrdiff_t(i), out->begin() + std::ptrdiff_t(i + k), 0.0);
       }
       warn(where + ": " + std::to_string(non_finite) + " " + semantic + " element(s) not finite: " +
            (semantic == "NORMAL" ? "those vertices shaded with their face's normal" : "(0, 0) used there"));
