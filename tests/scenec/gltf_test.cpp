@@ -163,6 +163,28 @@ Written write_test_gltf(const std::string& dir, int scene_index) {
   return w;
 }
 
+// A glTF of one triangle: POSITION and two more float attributes, `a` and then `b` (three elements each,
+// of type a_type and b_type), all in one data: buffer.
+std::string one_triangle_gltf(const std::vector<float>& a, const std::string& a_semantic, const std::string& a_type,
+                              const std::vector<float>& b, const std::string& b_semantic, const std::string& b_type) {
+  const std::vector<float> position = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const size_t a_bytes = 4 * a.size(), b_bytes = 4 * b.size();
+  std::vector<uint8_t> bytes(36 + a_bytes + b_bytes);
+  std::memcpy(bytes.data(), position.data(), 36);
+  std::memcpy(bytes.data() + 36, a.data(), a_bytes);
+  std::memcpy(bytes.data() + 36 + a_bytes, b.data(), b_bytes);
+  const auto n = [](size_t v) { return std::to_string(v); };
+  return "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":" + n(bytes.size()) +
+         ",\"uri\":\"data:application/octet-stream;base64," + base64(bytes) +
+         "\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":36},{\"buffer\":0,\"byteOffset\":36,\"byteLength\":" +
+         n(a_bytes) + "},{\"buffer\":0,\"byteOffset\":" + n(36 + a_bytes) + ",\"byteLength\":" + n(b_bytes) +
+         "}],\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
+         "{\"bufferView\":1,\"componentType\":5126,\"count\":3,\"type\":\"" + a_type + "\"},"
+         "{\"bufferView\":2,\"componentType\":5126,\"count\":3,\"type\":\"" + b_type + "\"}],"
+         "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"" + a_semantic + "\":1,\"" + b_semantic +
+         "\":2}}]}],\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}";
+}
+
 }  // namespace
 
 TEST(SceneGltf, EveryAssimpModelCompilesOrFailsCleanly) {
@@ -493,22 +515,9 @@ TEST(SceneGltf, HostileGraphsAndAccessors) {
 // exporter writes a model with UVW channels) keeps its first two. POSITION's type is still checked
 // (HostileGraphsAndAccessors, "wrong type").
 TEST(SceneGltf, OptionalAttributesOfAnotherTypeAreLeftOutOrTrimmed) {
-  const std::vector<float> position = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   const std::vector<float> uvw = {0.25f, 0.5f, 9, 1, 0.75f, 9, 0.5f, 1.5f, 9};
   const std::vector<float> normal2 = {0, 1, 0, 1, 0, 1};  // VEC2: not a normal
-  std::vector<uint8_t> bytes(4 * (position.size() + uvw.size() + normal2.size()));
-  std::memcpy(bytes.data(), position.data(), 36);
-  std::memcpy(bytes.data() + 36, uvw.data(), 36);
-  std::memcpy(bytes.data() + 72, normal2.data(), 24);
-  const std::string json =
-      "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":96,\"uri\":\"data:application/octet-stream;base64," +
-      base64(bytes) + "\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":36},{\"buffer\":0,\"byteOffset\":36,"
-      "\"byteLength\":36},{\"buffer\":0,\"byteOffset\":72,\"byteLength\":24}],\"accessors\":["
-      "{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
-      "{\"bufferView\":1,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
-      "{\"bufferView\":2,\"componentType\":5126,\"count\":3,\"type\":\"VEC2\"}],"
-      "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"TEXCOORD_0\":1,\"NORMAL\":2}}]}],"
-      "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}";
+  const std::string json = one_triangle_gltf(uvw, "TEXCOORD_0", "VEC3", normal2, "NORMAL", "VEC2");
   const CompileResult r = compile_gltf_memory(reinterpret_cast<const unsigned char*>(json.data()), json.size());
   ASSERT_TRUE(r.ok) << r.error;
   auto warned = [&](const std::string& text) {
@@ -537,22 +546,9 @@ TEST(SceneGltf, OptionalAttributesOfAnotherTypeAreLeftOutOrTrimmed) {
 // refused (NonFiniteCoordinatesAreRejectedNamingTheAccessor).
 TEST(SceneGltf, NonFiniteNormalsAndTexcoordsAreLeftOutWithAWarning) {
   const float nan = std::nanf(""), inf = INFINITY;
-  const std::vector<float> position = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   const std::vector<float> normal = {0, 0, 1, nan, 0, 1, 0, 0, 1};
   const std::vector<float> uv = {0.25f, 0.5f, 0.75f, 0.5f, inf, 1};
-  std::vector<uint8_t> bytes(4 * (position.size() + normal.size() + uv.size()));
-  std::memcpy(bytes.data(), position.data(), 36);
-  std::memcpy(bytes.data() + 36, normal.data(), 36);
-  std::memcpy(bytes.data() + 72, uv.data(), 24);
-  const std::string json =
-      "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":96,\"uri\":\"data:application/octet-stream;base64," +
-      base64(bytes) + "\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":36},{\"buffer\":0,\"byteOffset\":36,"
-      "\"byteLength\":36},{\"buffer\":0,\"byteOffset\":72,\"byteLength\":24}],\"accessors\":["
-      "{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
-      "{\"bufferView\":1,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
-      "{\"bufferView\":2,\"componentType\":5126,\"count\":3,\"type\":\"VEC2\"}],"
-      "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0,\"NORMAL\":1,\"TEXCOORD_0\":2}}]}],"
-      "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}";
+  const std::string json = one_triangle_gltf(normal, "NORMAL", "VEC3", uv, "TEXCOORD_0", "VEC2");
   const CompileResult r = compile_gltf_memory(reinterpret_cast<const unsigned char*>(json.data()), json.size());
   ASSERT_TRUE(r.ok) << r.error;
   auto warned = [&](const std::string& text) {
