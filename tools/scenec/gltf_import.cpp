@@ -87,16 +87,16 @@ bool no_file_write(std::string* err, const std::string&, const std::vector<unsig
 
 // The length of the well-formed UTF-8 sequence at text[i] (2 to 4 bytes; no overlong form, no
 // surrogate, at most U+10FFFF), or 0.
-size_t utf8_sequence(const std::string& text, size_t i) {
-  const unsigned char c = static_cast<unsigned char>(text[i]);
+size_t utf8_sequence(const unsigned char* text, size_t size, size_t i) {
+  const unsigned char c = text[i];
   const size_t n = c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
-  if (n == 0 || i + n > text.size()) return 0;
-  const unsigned char c1 = static_cast<unsigned char>(text[i + 1]);
+  if (n == 0 || i + n > size) return 0;
+  const unsigned char c1 = text[i + 1];
   const unsigned char lo = c == 0xE0 ? 0xA0 : c == 0xF0 ? 0x90 : 0x80;
   const unsigned char hi = c == 0xED ? 0x9F : c == 0xF4 ? 0x8F : 0xBF;
   if (c1 < lo || c1 > hi) return 0;
   for (size_t k = 2; k < n; ++k)
-    if ((static_cast<unsigned char>(text[i + k]) & 0xC0) != 0x80) return 0;
+    if ((text[i + k] & 0xC0) != 0x80) return 0;
   return n;
 }
 
@@ -107,24 +107,30 @@ size_t utf8_sequence(const std::string& text, size_t i) {
 // chunks kept. Returns how many bytes were re-encoded: 0 (and *out untouched) for well-formed UTF-8.
 size_t utf8_from_latin1(const unsigned char* bytes, size_t size, bool binary, const unsigned char* json,
                         size_t json_length, std::vector<unsigned char>* out) {
-  if (!json || json_length == 0) return 0;
-  const std::string text(reinterpret_cast<const char*>(json), json_length);
-  std::string fixed;
+  if (!json) return 0;
+  // Bytes that begin no well-formed sequence, counted first: a well-formed JSON is not copied.
+  const auto sequence = [&](size_t i) { return json[i] < 0x80 ? 1 : utf8_sequence(json, json_length, i); };
   size_t count = 0;
-  for (size_t i = 0; i < text.size();) {
-    const unsigned char c = static_cast<unsigned char>(text[i]);
-    const size_t n = c < 0x80 ? 1 : utf8_sequence(text, i);
+  for (size_t i = 0; i < json_length;) {
+    const size_t n = sequence(i);
+    count += n == 0 ? 1 : 0;
+    i += n == 0 ? 1 : n;
+  }
+  if (count == 0) return 0;
+  std::string fixed;
+  fixed.reserve(json_length + count);
+  for (size_t i = 0; i < json_length;) {
+    const unsigned char c = json[i];
+    const size_t n = sequence(i);
     if (n > 0) {
-      fixed.append(text, i, n);
+      fixed.append(reinterpret_cast<const char*>(json) + i, n);
       i += n;
       continue;
     }
     fixed += char(0xC0 | (c >> 6));
     fixed += char(0x80 | (c & 0x3F));
-    ++count;
     ++i;
   }
-  if (count == 0) return 0;
   out->clear();
   if (!binary) {
     out->assign(fixed.begin(), fixed.end());
@@ -152,7 +158,8 @@ std::string printable(const std::string& text) {
   std::string out;
   for (size_t i = 0; i < text.size();) {
     const unsigned char c = static_cast<unsigned char>(text[i]);
-    const size_t n = c >= 0x80 ? utf8_sequence(text, i) : (c >= 0x20 && c != 0x7F) || c == '\t' ? 1 : 0;
+    const size_t n = c >= 0x80 ? utf8_sequence(reinterpret_cast<const unsigned char*>(text.data()), text.size(), i)
+                     : (c >= 0x20 && c != 0x7F) || c == '\t' ? 1 : 0;
     if (n == 0) {
       static const char kHex[] = "0123456789abcdef";
       out += {'\\', 'x', kHex[c >> 4], kHex[c & 15]};
@@ -723,14 +730,7 @@ class Importer {
     }
     size_t non_finite = 0;
     if (!read_accessor(index, have, semantic, out, &read, false, &non_finite)) return false;
-    if (non_finite > 0) {
-      // The whole element goes (a normal of (0, 0, 0) is none: normalize3 leaves it so).
-      const size_t k = size_t(have);
-      for (size_t i = 0; i + k <= out->size(); i += k) {
-        bool finite = true;
-        for (size_t c = 0; c < k; ++c) finite = finite && std::isfinite((*out)[i + c]);
-        if (!finite) std::fill(out->begin() + std::ptrdiff_t(i), out->begin() + std::ptrdiff_t(i + k), 0.0);
-      }
+    if (non_finite > 0) {  // those elements are zeros (a normal of (0, 0, 0) is none: normalize3 leaves it so)
       warn(where + ": " + std::to_string(non_finite) + " " + semantic + " element(s) not finite: " +
            (semantic == "NORMAL" ? "those vertices shaded with their face's normal" : "(0, 0) used there"));
     }
@@ -751,8 +751,8 @@ class Importer {
   }
 
   // Reads accessor `index` as doubles, `components` per element. Checks everything first.
-  // Non-finite values refuse the model, unless finite_only is false (*non_finite: how many elements
-  // hold one; read_optional's attributes).
+  // Non-finite values refuse the model, unless finite_only is false: then an element holding one is
+  // made all zeros (*non_finite: how many; read_optional's attributes).
   bool read_accessor(int index, int components, const std::string& semantic, std::vector<double>* out,
                      size_t* count_out, bool finite_only = true, size_t* non_finite = nullptr) {
     const std::string where = "accessor " + std::to_string(index) + " (" + semantic + ")";
@@ -802,6 +802,7 @@ class Importer {
       for (int c = 0; c < components; ++c) finite = finite && std::isfinite((*out)[i * size_t(components) + size_t(c)]);
       if (finite) continue;
       if (finite_only) return fail(where + ": non-finite value");
+      std::fill_n(out->begin() + std::ptrdiff_t(i * size_t(components)), components, 0.0);
       ++bad;
     }
     if (non_finite) *non_finite = bad;
