@@ -236,10 +236,10 @@ class Builder {
   }
 
  private:
-  int64_t eval(const Plane& p, uint32_t v) const {
-    const Vec3i& w = world_[v];
+  static int64_t eval(const Plane& p, const Vec3i& w) {
     return int64_t(p.n[0]) * w.x + int64_t(p.n[1]) * w.y + int64_t(p.n[2]) * w.z - p.d;
   }
+  int64_t eval(const Plane& p, uint32_t v) const { return eval(p, world_[v]); }
 
   int64_t eps_of(const Piece& piece) const { return eps_[triangles_[piece.tri].batch]; }
 
@@ -284,7 +284,7 @@ class Builder {
     *triangle = kNone;
     const size_t n = pieces.size();
     // Scoring sample.
-    draw_sample(n);
+    draw_sample(pieces);
     // Candidates: planes of sampled pieces' triangles.
     std::vector<Plane> tri_cands;
     std::vector<uint32_t> tri_ids;
@@ -304,7 +304,7 @@ class Builder {
     uint32_t best_tri_id = kNone;
     int64_t best_tri_score = INT64_MAX;
     for (size_t i = 0; i < tri_cands.size(); ++i) {
-      const int64_t score = score_plane(tri_cands[i], pieces);
+      const int64_t score = score_plane(tri_cands[i], pieces, best_tri_score);
       if (score < best_tri_score) {
         best_tri_score = score;
         best_tri = tri_cands[i];
@@ -320,7 +320,8 @@ class Builder {
       std::vector<Plane> cuts;
       for (uint32_t t : tri_ids) add_line_planes(t, &cuts);
       for (const Plane& c : cuts) {
-        const int64_t score = score_plane(c, pieces);
+        // (A cut is taken only below the best triangle plane's score.)
+        const int64_t score = score_plane(c, pieces, std::min(best_cut_score, best_tri_score));
         if (score < best_cut_score) {
           best_cut_score = score;
           best_cut = c;
@@ -342,12 +343,14 @@ class Builder {
       const int positions = std::max(1, options_.bsp_axis_positions);
       for (int axis = 0; axis < 3; ++axis) {
         for (size_t i = 0; i < sample_.size(); ++i) ends[i] = far_end(pieces[sample_[i]], axis);
-        std::sort(ends.begin(), ends.end());
+        size_t ranked_to = 0;
         for (int q = 0; q < positions; ++q) {
           // quantiles spread over [0.25, 0.75]
           const double f = positions == 1 ? 0.5 : 0.25 + 0.5 * q / (positions - 1);
-          const Plane c = axis_plane(axis, ends[std::min(ends.size() - 1, size_t(f * double(ends.size() - 1) + 0.5))]);
-          const int64_t score = score_plane(c, pieces);
+          const size_t at = std::min(ends.size() - 1, size_t(f * double(ends.size() - 1) + 0.5));
+          const Plane c = axis_plane(axis, ranked(&ends, at, &ranked_to));
+          // (An axis plane is taken only below the best other plane's score.)
+          const int64_t score = score_plane(c, pieces, std::min(best_axis_score, best_tri_score));
           if (score < best_axis_score) {
             best_axis_score = score;
             best_axis = c;
@@ -384,20 +387,21 @@ class Builder {
           lo[a] = std::min(lo[a], coord(world_[v], a));
           hi[a] = std::max(hi[a], coord(world_[v], a));
         }
-    draw_sample(pieces.size());
+    draw_sample(pieces);
     int order[3] = {0, 1, 2};
     std::stable_sort(order, order + 3, [&](int a, int b) { return int64_t(hi[a]) - lo[a] > int64_t(hi[b]) - lo[b]; });
     std::vector<int32_t> ends(sample_.size());
     for (int axis : order) {
       for (size_t i = 0; i < sample_.size(); ++i) ends[i] = far_end(pieces[sample_[i]], axis);
-      std::sort(ends.begin(), ends.end());
       Plane best{};
       int64_t best_score = INT64_MAX;
       constexpr int kPositions = 9;
+      size_t ranked_to = 0;
       for (int q = 0; q < kPositions; ++q) {
         const double f = 0.3 + 0.4 * q / (kPositions - 1);
-        const Plane c = axis_plane(axis, ends[std::min(ends.size() - 1, size_t(f * double(ends.size() - 1) + 0.5))]);
-        const int64_t score = score_plane(c, pieces);
+        const size_t at = std::min(ends.size() - 1, size_t(f * double(ends.size() - 1) + 0.5));
+        const Plane c = axis_plane(axis, ranked(&ends, at, &ranked_to));
+        const int64_t score = score_plane(c, pieces, best_score);
         if (score < best_score) {
           best_score = score;
           best = c;
@@ -415,8 +419,10 @@ class Builder {
     return false;
   }
 
-  // The scoring sample: every piece of a small set, else bsp_sample_size drawn at random.
-  void draw_sample(size_t n) {
+  // The scoring sample: every piece of a small set, else bsp_sample_size drawn at random; with its
+  // pieces' vertices and bands copied out (score_plane reads them for every candidate plane).
+  void draw_sample(const std::vector<Piece>& pieces) {
+    const size_t n = pieces.size();
     const size_t sample_size = std::min(n, size_t(std::max(16, options_.bsp_sample_size)));
     sample_.clear();
     if (sample_size == n) {
@@ -424,6 +430,20 @@ class Builder {
     } else {
       for (size_t i = 0; i < sample_size; ++i) sample_.push_back(uint32_t(rng_.below(n)));
     }
+    sampled_.resize(sample_.size());
+    for (size_t i = 0; i < sample_.size(); ++i) {
+      const Piece& piece = pieces[sample_[i]];
+      for (int k = 0; k < 3; ++k) sampled_[i].p[k] = world_[piece.v[k]];
+      sampled_[i].eps = eps_of(piece);
+    }
+  }
+
+  // The value at position `at` of `values` sorted, for positions asked in ascending order (*from: the
+  // last one asked, 0 at first): the values past it put in order only as far as `at`, not sorted whole.
+  static int32_t ranked(std::vector<int32_t>* values, size_t at, size_t* from) {
+    std::nth_element(values->begin() + ptrdiff_t(*from), values->begin() + ptrdiff_t(at), values->end());
+    *from = at;
+    return (*values)[at];
   }
 
   int32_t far_end(const Piece& p, int axis) const {
@@ -448,19 +468,36 @@ class Builder {
     return true;
   }
 
-  int64_t score_plane(const Plane& p, const std::vector<Piece>& pieces) const {
+  // The plane's score on the sample (the lower the better), or INT64_MAX as soon as it cannot be below
+  // `below` (the best score so far: a plane that cannot beat it is not taken, so the choice is the
+  // same as with every score complete). The score only grows with the sample's splits, and the
+  // imbalance can shrink by at most the pieces still to classify: that bound is tested every 32 pieces
+  // (compiling 2CylinderEngine 7.9 s -> 5.8 s; testing it every 16 or 64 pieces: the same time).
+  int64_t score_plane(const Plane& p, const std::vector<Piece>& pieces, int64_t below = INT64_MAX) const {
     int64_t front = 0, back = 0, split = 0;
-    int64_t s[3];
-    for (uint32_t i : sample_) {
-      switch (classify(p, pieces[i], s)) {
-        case Side::Front: ++front; break;
-        case Side::Back: ++back; break;
-        case Side::Split: ++split; break;
-        case Side::On: break;
-      }
-    }
     const int64_t balance = pieces.size() <= size_t(options_.bsp_chain_pieces) ? 0 : options_.bsp_balance_weight;
-    return split * options_.bsp_split_weight * 4 + (front > back ? front - back : back - front) * balance;
+    const int64_t split_cost = int64_t(options_.bsp_split_weight) * 4;
+    const auto score = [&](int64_t left) {
+      const int64_t imbalance = front > back ? front - back : back - front;
+      return split * split_cost + std::max<int64_t>(0, imbalance - left) * balance;
+    };
+    const size_t n = sampled_.size();
+    for (size_t at = 0; at < n;) {
+      for (const size_t end = std::min(n, at + 32); at < end; ++at) {  // classify()'s sides, counted
+        const SampledPiece& piece = sampled_[at];
+        bool pos = false, neg = false;
+        for (const Vec3i& w : piece.p) {
+          const int64_t s = eval(p, w);
+          pos |= s > piece.eps;
+          neg |= s < -piece.eps;
+        }
+        front += pos & !neg;
+        back += neg & !pos;
+        split += pos & neg;
+      }
+      if (at < n && score(int64_t(n - at)) >= below) return INT64_MAX;
+    }
+    return score(0);
   }
 
   // True when the pieces can share one leaf: every piece is single-sided and lies behind (or within
@@ -860,6 +897,11 @@ class Builder {
   int64_t eps_max_ = 0;
   std::vector<TmpNode> nodes_;
   std::vector<uint32_t> sample_;
+  struct SampledPiece {
+    Vec3i p[3];   // its vertices' world positions
+    int64_t eps;  // its in-plane band (eps_of)
+  };
+  std::vector<SampledPiece> sampled_;  // sample_'s pieces (draw_sample)
   std::unordered_map<uint64_t, uint32_t> split_cache_;
   uint32_t split_vertices_ = 0;
   // T-junction bookkeeping: every split point lies on a line through the two vertices of the edge it
