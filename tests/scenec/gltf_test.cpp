@@ -3,6 +3,7 @@
 // pins triangle ids, strip/fan triangulation, TRS and matrix transforms, mirrored winding, normals,
 // texture coordinates and materials.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -14,6 +15,7 @@
 
 #include <tiny_gltf.h>
 
+#include "platform/host/png_io.h"
 #include "tests/scene/scene_test_util.h"
 
 using namespace ml;
@@ -669,7 +671,15 @@ TEST(SceneGltf, AMissingImageFileIsOneWarningNamingIt) {
           "\"textures\":[{\"source\":0}],\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
           "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"material\":0}]}],"
           "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}");
+  // A file of that name in the current directory is not the model's: not read (a decodable image
+  // there would give the model a texture).
+  const std::string elsewhere = scenetest::temp_dir();
+  ASSERT_EQ(mlhost::write_png_rgb(elsewhere + "/missing-texture.png", 2, 2, std::vector<ml::Pixel>(4, 0x336699u)), "");
+  char cwd[4096];
+  ASSERT_NE(getcwd(cwd, sizeof cwd), nullptr);
+  ASSERT_EQ(chdir(elsewhere.c_str()), 0);
   const CompileResult r = compile_gltf_file(dir + "/m.gltf");
+  ASSERT_EQ(chdir(cwd), 0);
   ASSERT_TRUE(r.ok) << r.error;
   const std::vector<std::string> naming = {
       "image 0: its file 'missing-texture.png' not read (missing beside the glTF, or unreadable), texture ignored"};

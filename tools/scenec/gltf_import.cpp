@@ -75,6 +75,13 @@ bool read_external_file(std::vector<unsigned char>* out, std::string* err, const
   if (err) *err += error + "\n";
   return false;
 }
+// A file the glTF names exists for it only beside it (paths under its directory, `beside`: that
+// directory joined with "" as tinygltf joins paths): tinygltf also looks in the current directory,
+// where a stray file of the same name is not the model's.
+bool file_beside_gltf(const std::string& path, void* beside) {
+  const std::string& dir = *static_cast<const std::string*>(beside);
+  return path.compare(0, dir.size(), dir) == 0 && tinygltf::FileExists(path, nullptr);
+}
 bool no_file_exists(const std::string&, void*) { return false; }
 bool no_file_read(std::vector<unsigned char>*, std::string* err, const std::string& path, void*) {
   if (err) *err += "external file " + path + " is not read here\n";
@@ -1035,7 +1042,8 @@ std::vector<std::string> image_file_warnings(const std::vector<std::string>& lin
 
 std::string base_dir_of(const std::string& path) {
   const size_t slash = path.find_last_of('/');
-  return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
+  if (slash == std::string::npos) return ".";
+  return slash == 0 ? "/" : path.substr(0, slash);  // (empty would read no external file)
 }
 
 }  // namespace
@@ -1086,13 +1094,15 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
     ImageLoad image_load{kMaxImagePixels, &model};
     loader.SetImageLoader(&decode_image, &image_load);
     tinygltf::FsCallbacks fs{};
+    std::string beside = base_dir.empty() || base_dir.back() == '/' ? base_dir : base_dir + "/";
+    fs.user_data = &beside;
     fs.ExpandFilePath = &tinygltf::ExpandFilePath;
     fs.WriteWholeFile = &no_file_write;
     if (base_dir.empty()) {
       fs.FileExists = &no_file_exists;
       fs.ReadWholeFile = &no_file_read;
     } else {
-      fs.FileExists = &tinygltf::FileExists;
+      fs.FileExists = &file_beside_gltf;
       fs.ReadWholeFile = &read_external_file;
     }
     loader.SetFsCallbacks(fs);
