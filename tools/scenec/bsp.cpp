@@ -304,6 +304,7 @@ class Builder {
     uint32_t best_tri_id = kNone;
     int64_t best_tri_score = INT64_MAX;
     for (size_t i = 0; i < tri_cands.size(); ++i) {
+      if (repeats_earlier(tri_cands, i)) continue;  // (the same score: the earlier one stays the best)
       const int64_t score = score_plane(tri_cands[i], pieces, best_tri_score);
       if (score < best_tri_score) {
         best_tri_score = score;
@@ -319,7 +320,9 @@ class Builder {
       int64_t best_cut_score = INT64_MAX;
       std::vector<Plane> cuts;
       for (uint32_t t : tri_ids) add_line_planes(t, &cuts);
-      for (const Plane& c : cuts) {
+      for (size_t i = 0; i < cuts.size(); ++i) {
+        if (repeats_earlier(cuts, i)) continue;
+        const Plane& c = cuts[i];
         // (A cut is taken only below the best triangle plane's score.)
         const int64_t score = score_plane(c, pieces, std::min(best_cut_score, best_tri_score));
         if (score < best_cut_score) {
@@ -343,12 +346,11 @@ class Builder {
       const int positions = std::max(1, options_.bsp_axis_positions);
       for (int axis = 0; axis < 3; ++axis) {
         for (size_t i = 0; i < sample_.size(); ++i) ends[i] = far_end(pieces[sample_[i]], axis);
-        size_t ranked_to = 0;
+        std::sort(ends.begin(), ends.end());
         for (int q = 0; q < positions; ++q) {
           // quantiles spread over [0.25, 0.75]
           const double f = positions == 1 ? 0.5 : 0.25 + 0.5 * q / (positions - 1);
-          const size_t at = std::min(ends.size() - 1, size_t(f * double(ends.size() - 1) + 0.5));
-          const Plane c = axis_plane(axis, ranked(&ends, at, &ranked_to));
+          const Plane c = axis_plane(axis, ends[std::min(ends.size() - 1, size_t(f * double(ends.size() - 1) + 0.5))]);
           // (An axis plane is taken only below the best other plane's score.)
           const int64_t score = score_plane(c, pieces, std::min(best_axis_score, best_tri_score));
           if (score < best_axis_score) {
@@ -393,14 +395,13 @@ class Builder {
     std::vector<int32_t> ends(sample_.size());
     for (int axis : order) {
       for (size_t i = 0; i < sample_.size(); ++i) ends[i] = far_end(pieces[sample_[i]], axis);
+      std::sort(ends.begin(), ends.end());
       Plane best{};
       int64_t best_score = INT64_MAX;
       constexpr int kPositions = 9;
-      size_t ranked_to = 0;
       for (int q = 0; q < kPositions; ++q) {
         const double f = 0.3 + 0.4 * q / (kPositions - 1);
-        const size_t at = std::min(ends.size() - 1, size_t(f * double(ends.size() - 1) + 0.5));
-        const Plane c = axis_plane(axis, ranked(&ends, at, &ranked_to));
+        const Plane c = axis_plane(axis, ends[std::min(ends.size() - 1, size_t(f * double(ends.size() - 1) + 0.5))]);
         const int64_t score = score_plane(c, pieces, best_score);
         if (score < best_score) {
           best_score = score;
@@ -438,14 +439,6 @@ class Builder {
     }
   }
 
-  // The value at position `at` of `values` sorted, for positions asked in ascending order (*from: the
-  // last one asked, 0 at first): the values past it put in order only as far as `at`, not sorted whole.
-  static int32_t ranked(std::vector<int32_t>* values, size_t at, size_t* from) {
-    std::nth_element(values->begin() + ptrdiff_t(*from), values->begin() + ptrdiff_t(at), values->end());
-    *from = at;
-    return (*values)[at];
-  }
-
   int32_t far_end(const Piece& p, int axis) const {
     return std::max(coord(world_[p.v[0]], axis), std::max(coord(world_[p.v[1]], axis), coord(world_[p.v[2]], axis)));
   }
@@ -460,7 +453,17 @@ class Builder {
 
   static int32_t coord(const Vec3i& v, int axis) { return axis == 0 ? v.x : (axis == 1 ? v.y : v.z); }
 
+  // Whether planes[i] is one of the planes before it: a candidate drawn twice, or coplanar triangles.
+  static bool repeats_earlier(const std::vector<Plane>& planes, size_t i) {
+    const Plane& p = planes[i];
+    for (size_t j = 0; j < i; ++j)
+      if (planes[j].d == p.d && planes[j].n[0] == p.n[0] && planes[j].n[1] == p.n[1] && planes[j].n[2] == p.n[2])
+        return true;
+    return false;
+  }
+
   bool add_triangle_candidate(uint32_t tri, std::vector<Plane>* out, std::vector<uint32_t>* ids) const {
+    if (std::find(ids->begin(), ids->end(), tri) != ids->end()) return true;  // drawn again: nothing new
     Plane p;
     if (!triangle_plane(tri, &p)) return false;
     out->push_back(p);
