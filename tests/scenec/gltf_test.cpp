@@ -3,11 +3,13 @@
 // pins triangle ids, strip/fan triangulation, TRS and matrix transforms, mirrored winding, normals,
 // texture coordinates and materials.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <string>
@@ -658,34 +660,63 @@ TEST(SceneGltf, ExponentialNodeSharingIsBounded) {
 
 // An image file missing beside the glTF is one warning naming the file (the glTF parser's own two
 // lines, one of which does not name it, are not passed on); the model still compiles, untextured.
+namespace {
+
+// The current directory changed to `dir` for the object's life (a compile that looks there).
+class InDirectory {
+ public:
+  explicit InDirectory(const std::string& dir) : ok_(getcwd(cwd_, sizeof cwd_) != nullptr && chdir(dir.c_str()) == 0) {}
+  ~InDirectory() {
+    if (ok_ && chdir(cwd_) != 0) std::abort();
+  }
+  bool ok() const { return ok_; }
+
+ private:
+  char cwd_[4096];
+  bool ok_;
+};
+
+}  // namespace
+
 TEST(SceneGltf, AMissingImageFileIsOneWarningNamingIt) {
   const std::vector<float> position = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   std::vector<uint8_t> bytes(36);
   std::memcpy(bytes.data(), position.data(), 36);
+  const auto naming_image = [&](const std::string& uri) {
+    return "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"data:application/octet-stream;base64," +
+           base64(bytes) + "\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
+           "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"images\":[{\"uri\":\"" + uri + "\"}],"
+           "\"textures\":[{\"source\":0}],\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
+           "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"material\":0}]}],"
+           "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}";
+  };
   const std::string dir = scenetest::temp_dir();
-  scenetest::write_file(
-      dir + "/m.gltf",
-      "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"data:application/octet-stream;base64," +
-          base64(bytes) + "\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
-          "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"images\":[{\"uri\":\"missing-texture.png\"}],"
-          "\"textures\":[{\"source\":0}],\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
-          "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"material\":0}]}],"
-          "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}");
-  // A file of that name in the current directory is not the model's: not read (a decodable image
-  // there would give the model a texture).
-  const std::string elsewhere = scenetest::temp_dir();
-  ASSERT_EQ(mlhost::write_png_rgb(elsewhere + "/missing-texture.png", 2, 2, std::vector<ml::Pixel>(4, 0x336699u)), "");
-  char cwd[4096];
-  ASSERT_NE(getcwd(cwd, sizeof cwd), nullptr);
-  ASSERT_EQ(chdir(elsewhere.c_str()), 0);
-  const CompileResult r = compile_gltf_file(dir + "/m.gltf");
-  ASSERT_EQ(chdir(cwd), 0);
-  ASSERT_TRUE(r.ok) << r.error;
-  const std::vector<std::string> naming = {
-      "image 0: its file 'missing-texture.png' not read (missing beside the glTF, or unreadable), texture ignored"};
-  std::vector<std::string> about_the_file;
-  for (const std::string& w : r.warnings)
-    if (w.find("missing-texture.png") != std::string::npos || w.find("image[") != std::string::npos)
-      about_the_file.push_back(w);
-  EXPECT_EQ(about_the_file, naming);
+  scenetest::write_file(dir + "/m.gltf", naming_image("missing-texture.png"));
+  // Files of those names in the current directory are not the models' and are not read (a decodable
+  // image there would give the model a texture): "missing-texture.png" for a glTF elsewhere, and for
+  // a glTF named "./sub/m.gltf" whose image is "sub/t.png" (beside it: "./sub/sub/t.png", missing),
+  // the "./sub/t.png" tinygltf's lookup in the current directory would find.
+  const std::string current = scenetest::temp_dir();
+  const std::vector<ml::Pixel> blue(4, 0x336699u);
+  ASSERT_EQ(mlhost::write_png_rgb(current + "/missing-texture.png", 2, 2, blue), "");
+  ASSERT_EQ(mkdir((current + "/sub").c_str(), 0755), 0);
+  ASSERT_EQ(mlhost::write_png_rgb(current + "/sub/t.png", 2, 2, blue), "");
+  scenetest::write_file(current + "/sub/m.gltf", naming_image("sub/t.png"));
+  CompileResult r, dotted;
+  {
+    const InDirectory in(current);
+    ASSERT_TRUE(in.ok());
+    r = compile_gltf_file(dir + "/m.gltf");
+    dotted = compile_gltf_file("./sub/m.gltf");
+  }
+  for (const CompileResult* c : {&r, &dotted}) {
+    ASSERT_TRUE(c->ok) << c->error;
+    const std::string uri = c == &r ? "missing-texture.png" : "sub/t.png";
+    const std::vector<std::string> naming = {"image 0: its file '" + uri +
+                                             "' not read (missing beside the glTF, or unreadable), texture ignored"};
+    std::vector<std::string> about_the_file;
+    for (const std::string& w : c->warnings)
+      if (w.find(uri) != std::string::npos || w.find("image[") != std::string::npos) about_the_file.push_back(w);
+    EXPECT_EQ(about_the_file, naming);
+  }
 }

@@ -480,6 +480,7 @@ class Builder {
     int64_t front = 0, back = 0, split = 0;
     const int64_t balance = pieces.size() <= size_t(options_.bsp_chain_pieces) ? 0 : options_.bsp_balance_weight;
     const int64_t split_cost = int64_t(options_.bsp_split_weight) * 4;
+    if (balance < 0 || split_cost < 0) below = INT64_MAX;  // (the bound holds for weights >= 0 only)
     const auto score = [&](int64_t left) {
       const int64_t imbalance = front > back ? front - back : back - front;
       return split * split_cost + std::max<int64_t>(0, imbalance - left) * balance;

@@ -75,9 +75,10 @@ bool read_external_file(std::vector<unsigned char>* out, std::string* err, const
   if (err) *err += error + "\n";
   return false;
 }
-// A file the glTF names exists for it only beside it (paths under its directory, `beside`: that
-// directory joined with "" as tinygltf joins paths): tinygltf also looks in the current directory,
-// where a stray file of the same name is not the model's.
+// A file the glTF names exists for it only at its URI relative to the glTF (paths starting with the
+// glTF's directory, `beside`: joined with "" as tinygltf joins paths; a URI may still go up with
+// "../"): tinygltf also looks in the current directory, where a stray file of that name is not the
+// model's.
 bool file_beside_gltf(const std::string& path, void* beside) {
   const std::string& dir = *static_cast<const std::string*>(beside);
   return path.compare(0, dir.size(), dir) == 0 && tinygltf::FileExists(path, nullptr);
@@ -1040,6 +1041,19 @@ std::vector<std::string> image_file_warnings(const std::vector<std::string>& lin
   return out;
 }
 
+// The directory written without leading "./" (and the slashes after it): tinygltf's second lookup is
+// "./" + the file's URI, which the prefix test of file_beside_gltf would let through for "./dir/"
+// (a URI "dir/t.png" would be read from "./dir/t.png", not from beside the glTF: "./dir/dir/t.png").
+std::string without_leading_dot_slash(std::string dir) {
+  while (dir.size() > 2 && dir[0] == '.' && dir[1] == '/') {
+    size_t n = 2;
+    while (n < dir.size() && dir[n] == '/') ++n;
+    if (n == dir.size()) return ".";  // "./", ".//": the current directory
+    dir.erase(0, n);
+  }
+  return dir;
+}
+
 std::string base_dir_of(const std::string& path) {
   const size_t slash = path.find_last_of('/');
   if (slash == std::string::npos) return ".";
@@ -1048,9 +1062,10 @@ std::string base_dir_of(const std::string& path) {
 
 }  // namespace
 
-bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::string& base_dir, SceneMesh* mesh,
+bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::string& directory, SceneMesh* mesh,
                         std::vector<std::string>* warnings, std::string* error) {
   *mesh = SceneMesh();
+  const std::string base_dir = directory.empty() ? directory : without_leading_dot_slash(directory);
   try {
     if (size == 0) {
       *error = "file is empty";
