@@ -1062,10 +1062,9 @@ std::string base_dir_of(const std::string& path) {
 
 }  // namespace
 
-bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::string& directory, SceneMesh* mesh,
+bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::string& base_dir, SceneMesh* mesh,
                         std::vector<std::string>* warnings, std::string* error) {
   *mesh = SceneMesh();
-  const std::string base_dir = directory.empty() ? directory : without_leading_dot_slash(directory);
   try {
     if (size == 0) {
       *error = "file is empty";
@@ -1109,11 +1108,12 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
     ImageLoad image_load{kMaxImagePixels, &model};
     loader.SetImageLoader(&decode_image, &image_load);
     tinygltf::FsCallbacks fs{};
-    std::string beside = base_dir.empty() || base_dir.back() == '/' ? base_dir : base_dir + "/";
+    const std::string dir = without_leading_dot_slash(base_dir);  // (empty stays empty: no file read)
+    std::string beside = dir.empty() || dir.back() == '/' ? dir : dir + "/";
     fs.user_data = &beside;
     fs.ExpandFilePath = &tinygltf::ExpandFilePath;
     fs.WriteWholeFile = &no_file_write;
-    if (base_dir.empty()) {
+    if (dir.empty()) {
       fs.FileExists = &no_file_exists;
       fs.ReadWholeFile = &no_file_read;
     } else {
@@ -1124,10 +1124,10 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
     std::string err, warn;
     bool ok;
     if (binary) {
-      ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes, unsigned(size), base_dir);
+      ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes, unsigned(size), dir);
     } else {
       ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes), unsigned(size),
-                                      base_dir);
+                                      dir);
     }
     for (const std::string& w : image_file_warnings(split_lines(warn), model)) {
       if (warnings->size() < 100) warnings->push_back(w);
