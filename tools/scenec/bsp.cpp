@@ -243,18 +243,18 @@ class Builder {
 
   int64_t eps_of(const Piece& piece) const { return eps_[triangles_[piece.tri].batch]; }
 
+  // Where a piece with vertices a, b, c (and in-plane band eps) lies: bit 0, a vertex beyond the band
+  // in front; bit 1, one behind (both: split; none: on the plane). s gets the vertices' values, unless
+  // it is null.
+  static int sides_of(const Plane& p, const Vec3i& a, const Vec3i& b, const Vec3i& c, int64_t eps, int64_t* s) {
+    const int64_t va = eval(p, a), vb = eval(p, b), vc = eval(p, c);
+    if (s) s[0] = va, s[1] = vb, s[2] = vc;
+    const bool front = va > eps || vb > eps || vc > eps, back = va < -eps || vb < -eps || vc < -eps;
+    return int(front) | int(back) << 1;
+  }
   Side classify(const Plane& p, const Piece& piece, int64_t s[3]) const {
-    const int64_t eps = eps_of(piece);
-    bool pos = false, neg = false;
-    for (int k = 0; k < 3; ++k) {
-      s[k] = eval(p, piece.v[k]);
-      pos |= s[k] > eps;
-      neg |= s[k] < -eps;
-    }
-    if (pos && neg) return Side::Split;
-    if (pos) return Side::Front;
-    if (neg) return Side::Back;
-    return Side::On;
+    static constexpr Side kBySides[4] = {Side::On, Side::Front, Side::Back, Side::Split};
+    return kBySides[sides_of(p, world_[piece.v[0]], world_[piece.v[1]], world_[piece.v[2]], eps_of(piece), s)];
   }
 
   // The plane of triangle t's original vertices; false when t is degenerate.
@@ -342,10 +342,10 @@ class Builder {
       int64_t best_axis_score = INT64_MAX;
       // Positions just past the far end of sampled pieces (a plane there splits none of them), at
       // quantiles around the middle, on each axis.
-      std::vector<int32_t> ends(sample_.size());
+      std::vector<int32_t> ends(sampled_.size());
       const int positions = std::max(1, options_.bsp_axis_positions);
       for (int axis = 0; axis < 3; ++axis) {
-        for (size_t i = 0; i < sample_.size(); ++i) ends[i] = far_end(pieces[sample_[i]], axis);
+        for (size_t i = 0; i < sampled_.size(); ++i) ends[i] = sampled_[i].far_end(axis);
         std::sort(ends.begin(), ends.end());
         for (int q = 0; q < positions; ++q) {
           // quantiles spread over [0.25, 0.75]
@@ -392,9 +392,9 @@ class Builder {
     draw_sample(pieces);
     int order[3] = {0, 1, 2};
     std::stable_sort(order, order + 3, [&](int a, int b) { return int64_t(hi[a]) - lo[a] > int64_t(hi[b]) - lo[b]; });
-    std::vector<int32_t> ends(sample_.size());
+    std::vector<int32_t> ends(sampled_.size());
     for (int axis : order) {
-      for (size_t i = 0; i < sample_.size(); ++i) ends[i] = far_end(pieces[sample_[i]], axis);
+      for (size_t i = 0; i < sampled_.size(); ++i) ends[i] = sampled_[i].far_end(axis);
       std::sort(ends.begin(), ends.end());
       Plane best{};
       int64_t best_score = INT64_MAX;
@@ -409,9 +409,8 @@ class Builder {
         }
       }
       size_t splits = 0;
-      int64_t s[3];
-      for (uint32_t i : sample_) splits += classify(best, pieces[i], s) == Side::Split;
-      if (splits * 1000 <= size_t(std::max(0, options_.bsp_cell_split_permille)) * sample_.size() &&
+      for (const SampledPiece& piece : sampled_) splits += piece.sides(best) == 3;
+      if (splits * 1000 <= size_t(std::max(0, options_.bsp_cell_split_permille)) * sampled_.size() &&
           axis_makes_progress(best, pieces)) {
         *out = best;
         return true;
@@ -420,27 +419,17 @@ class Builder {
     return false;
   }
 
-  // The scoring sample: every piece of a small set, else bsp_sample_size drawn at random; with its
-  // pieces' vertices and bands copied out (score_plane reads them for every candidate plane).
+  // The scoring sample: every piece of a small set, else bsp_sample_size drawn at random; each piece's
+  // vertices and band copied out (score_plane reads them for every candidate plane).
   void draw_sample(const std::vector<Piece>& pieces) {
     const size_t n = pieces.size();
     const size_t sample_size = std::min(n, size_t(std::max(16, options_.bsp_sample_size)));
-    sample_.clear();
-    if (sample_size == n) {
-      for (size_t i = 0; i < n; ++i) sample_.push_back(uint32_t(i));
-    } else {
-      for (size_t i = 0; i < sample_size; ++i) sample_.push_back(uint32_t(rng_.below(n)));
-    }
-    sampled_.resize(sample_.size());
-    for (size_t i = 0; i < sample_.size(); ++i) {
-      const Piece& piece = pieces[sample_[i]];
+    sampled_.resize(sample_size);
+    for (size_t i = 0; i < sample_size; ++i) {
+      const Piece& piece = pieces[sample_size == n ? i : rng_.below(n)];
       for (int k = 0; k < 3; ++k) sampled_[i].p[k] = world_[piece.v[k]];
       sampled_[i].eps = eps_of(piece);
     }
-  }
-
-  int32_t far_end(const Piece& p, int axis) const {
-    return std::max(coord(world_[p.v[0]], axis), std::max(coord(world_[p.v[1]], axis), coord(world_[p.v[2]], axis)));
   }
 
   // The axis plane just past coordinate `at` (beyond the in-plane band of a vertex there).
@@ -487,17 +476,11 @@ class Builder {
     };
     const size_t n = sampled_.size();
     for (size_t at = 0; at < n;) {
-      for (const size_t end = std::min(n, at + 32); at < end; ++at) {  // classify()'s sides, counted
-        const SampledPiece& piece = sampled_[at];
-        bool pos = false, neg = false;
-        for (const Vec3i& w : piece.p) {
-          const int64_t s = eval(p, w);
-          pos |= s > piece.eps;
-          neg |= s < -piece.eps;
-        }
-        front += pos & !neg;
-        back += neg & !pos;
-        split += pos & neg;
+      for (const size_t end = std::min(n, at + 32); at < end; ++at) {
+        const int sides = sampled_[at].sides(p);  // (counted without branches)
+        front += sides == 1;
+        back += sides == 2;
+        split += sides == 3;
       }
       if (at < n && score(int64_t(n - at)) >= below) return INT64_MAX;
     }
@@ -900,12 +883,13 @@ class Builder {
   std::vector<int64_t> eps_;
   int64_t eps_max_ = 0;
   std::vector<TmpNode> nodes_;
-  std::vector<uint32_t> sample_;
   struct SampledPiece {
     Vec3i p[3];   // its vertices' world positions
     int64_t eps;  // its in-plane band (eps_of)
+    int sides(const Plane& plane) const { return sides_of(plane, p[0], p[1], p[2], eps, nullptr); }
+    int32_t far_end(int axis) const { return std::max(coord(p[0], axis), std::max(coord(p[1], axis), coord(p[2], axis))); }
   };
-  std::vector<SampledPiece> sampled_;  // sample_'s pieces (draw_sample)
+  std::vector<SampledPiece> sampled_;  // the scoring sample (draw_sample)
   std::unordered_map<uint64_t, uint32_t> split_cache_;
   uint32_t split_vertices_ = 0;
   // T-junction bookkeeping: every split point lies on a line through the two vertices of the edge it

@@ -125,28 +125,26 @@ size_t utf8_from_latin1(const unsigned char* bytes, size_t size, bool binary, co
     i += n == 0 ? 1 : n;
   }
   if (count == 0) return 0;
-  std::string fixed;
-  fixed.reserve(json_length + count);
+  std::vector<unsigned char> fixed;
+  fixed.reserve(json_length + count + 3);
   for (size_t i = 0; i < json_length;) {
-    const unsigned char c = json[i];
     const size_t n = sequence(i);
     if (n > 0) {
-      fixed.append(reinterpret_cast<const char*>(json) + i, n);
+      fixed.insert(fixed.end(), json + i, json + i + n);
       i += n;
       continue;
     }
-    fixed += char(0xC0 | (c >> 6));
-    fixed += char(0x80 | (c & 0x3F));
+    fixed.push_back(uint8_t(0xC0 | (json[i] >> 6)));
+    fixed.push_back(uint8_t(0x80 | (json[i] & 0x3F)));
     ++i;
   }
-  out->clear();
   if (!binary) {
-    out->assign(fixed.begin(), fixed.end());
+    *out = std::move(fixed);
     return count;
   }
   // glb: header (magic, version, total length), then the JSON chunk (length, "JSON", its bytes padded
   // with spaces to a multiple of 4), then the rest as it was.
-  while (fixed.size() % 4 != 0) fixed += ' ';
+  while (fixed.size() % 4 != 0) fixed.push_back(' ');
   uint32_t stated = 0;
   std::memcpy(&stated, bytes + 12, 4);
   const size_t rest = 20 + size_t(stated) < size ? 20 + size_t(stated) : size;
