@@ -262,7 +262,8 @@ bench: all
 
 # the firmware images under QEMU: instructions a frame, flash and RAM (docs/benchmarks.md, Boards)
 bench-board: firmware
-	@bash tools/bench/board.sh $(BUILD)
+	@$(MAKE) --no-print-directory $(BUILD)/bench
+	+@bash tools/bench/board.sh $(BUILD)
 
 clean:
 	rm -rf $(BUILD) out
