@@ -150,15 +150,24 @@ void make_box_sums(TexturePlanes* p, int32_t x0, int32_t y0, int32_t x1, int32_t
     ML_HOST_UNROLL for (int i = 0; i < 3; ++i) scaled[j][i] = (from[j][i] + half) >> s;
   const int64_t sign = scaled[0][0] + scaled[0][1] + scaled[0][2] < 0 ? -1 : 1;  // the sum made positive
   // The sums (u, v, W) at (x0, y0) and their steps, written before the test below: a small triangle
-  // left divided uses neither them nor the segment cache they share the union with.
+  // left divided uses neither them nor the segment cache they share the union with. Each scaled
+  // value is at most 2^kTextureWeightBits in magnitude: 32-bit targets take the products as 32 x 32
+  // bits (one multiply-accumulate on a Cortex-M3, where 64 x 64 bits take three and a carry).
+#if UINTPTR_MAX > 0xFFFFFFFFu
+  using Weight = int64_t;
+#else
+  using Weight = int32_t;
+  static_assert(kTextureWeightBits < 31, "scaled values in 32 bits");
+#endif
   BoxSums& sums = p->sums;
   int64_t* const to[3] = {sums.at, sums.dx, sums.dy};
-  ML_HOST_UNROLL for (int j = 0; j < 3; ++j)
-    ML_HOST_UNROLL for (int c = 0; c < 3; ++c) {
-      int64_t n = 0;
-      ML_HOST_UNROLL for (int i = 0; i < 3; ++i) n += (c < 2 ? int64_t(p->uv[i][c]) : 1) * scaled[j][i];
-      to[j][c] = sign * n;
-    }
+  const int32_t(*uv)[2] = p->uv;
+  ML_HOST_UNROLL for (int j = 0; j < 3; ++j) {
+    const Weight w0 = Weight(sign * scaled[j][0]), w1 = Weight(sign * scaled[j][1]), w2 = Weight(sign * scaled[j][2]);
+    to[j][0] = int64_t(uv[0][0]) * w0 + int64_t(uv[1][0]) * w1 + int64_t(uv[2][0]) * w2;
+    to[j][1] = int64_t(uv[0][1]) * w0 + int64_t(uv[1][1]) * w1 + int64_t(uv[2][1]) * w2;
+    to[j][2] = int64_t(w0) + w1 + w2;
+  }
   // The sum of e_i stays above 0 over the box: a plane, least at a corner.
   if (sums.at[2] + min_of(int64_t(0), sums.dx[2] * w) + min_of(int64_t(0), sums.dy[2] * h) <= 0) return;
   sums.x = x0, sums.y = y0, sums.w = int32_t(w), sums.h = int32_t(h);

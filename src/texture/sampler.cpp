@@ -897,12 +897,21 @@ void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes
   const bool per_sample = !lut || (bilinear && (lut_colour != colour || (p.exact && colour != 0xFFFFFF)));
 #endif
   if (per_sample) {
-    for (int32_t r = 0; r < rows; ++r)
+    for (int32_t r = 0; r < rows; ++r) {
+      if (p.boxed) {  // a small triangle: its box's sums at each sample (no piece to look up)
+        for (int32_t i = 0; i < n; ++i) {
+          int32_t uv[2];
+          box_uv(p, x + i, y + r, uv);
+          *out++ = textured_colour(t, bytes, uv, colour, true);
+        }
+        continue;
+      }
       for (int32_t i = 0; i < n; ++i) {
         int32_t uv[2];
         texture_uv(p, x + i, y + r, uv);
         *out++ = textured_colour(t, bytes, uv, colour, p.exact);
       }
+    }
     return;
   }
 #if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
