@@ -151,7 +151,7 @@ FW_CHECK_CRC ?= 1
 # tightest flash budget, docs/firmware.md) pixel packing is compiled for size too (880 bytes less;
 # its frame 26.56 M -> 26.80 M instructions), and the band output and render entry, which run once a
 # band or a frame (336 bytes less).
-FW_M0_SIZE_SRC := src/core/pixel_format.cpp src/core/band.cpp src/render/entry.cpp
+FW_M0_SIZE_SRC := src/core/pixel_format.cpp src/core/band.cpp src/render/entry.cpp src/scene/reader.cpp
 fw_opt = $(if $(filter src/texture/%,$(1)),-Os -DML_TEXTURE_RUNS_GENERAL_ONLY,$(if $(filter $(addprefix m0:,$(FW_M0_SIZE_SRC)),$(2):$(1)),-Os))
 FW_ELFS := $(FW)/mps2-an385-tiler.elf $(FW)/mps2-an385-scanline.elf $(FW)/mps2-an385-calls.elf $(FW)/lm3s6965evb-tiler.elf $(FW)/lm3s6965evb-scanline.elf $(FW)/m0plus.elf
 
