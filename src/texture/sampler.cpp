@@ -302,6 +302,21 @@ __attribute__((always_inline)) inline void bilinear_run(const TextureTexels& t, 
   bilinear_loop<Wrapping::Modes>(t, right, a[0], a[1], s[0], s[1], fetch, n, out);
 }
 
+// A small triangle's bilinear sample through the texture's white table (its texels decoded once):
+// the filter of the table's texels, x colour, as textured_colour's small order gives it. The format
+// is looked at per texel, one filter for all three (the boards' per-sample loop: their code budget).
+Pixel small_bilinear_white(const TextureTexels& t, const uint8_t* bytes, const Pixel* white, const int32_t uv[2],
+                           Pixel colour) {
+  const auto fetch = [&](int32_t x, int32_t y) {
+    switch (TexelFormat(t.format)) {
+      case TexelFormat::Palette8: return LutTexels<TexelFormat::Palette8>(t, bytes, white)(x, y);
+      case TexelFormat::Grey4: return LutTexels<TexelFormat::Grey4>(t, bytes, white)(x, y);
+      default: return LutTexels<TexelFormat::Rgb565>(t, bytes, white)(x, y);
+    }
+  };
+  return modulate_texel(bilinear<false>(t, uv[0], uv[1], fetch), colour);
+}
+
 // The textured colour at uv decoding texels one by one: nearest, the texel x colour; bilinear, the
 // filter of the texels x colour (each neighbour modulated, as a modulated texel table gives them),
 // or for a small triangle the filter of the texels, x colour.
@@ -898,11 +913,14 @@ void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes
 #endif
   if (per_sample) {
     for (int32_t r = 0; r < rows; ++r) {
-      if (p.boxed) {  // a small triangle: its box's sums at each sample (no piece to look up)
+      if (p.boxed) {  // a small triangle: its box's sums stepped along the row (box_uv's coordinates)
+        const bool white = lut && lut_colour == 0xFFFFFF && t.filter == uint8_t(TextureFilter::Bilinear);
+        BoxSteps steps(p);
+        steps.start(p, x, y + r);
         for (int32_t i = 0; i < n; ++i) {
           int32_t uv[2];
-          box_uv(p, x + i, y + r, uv);
-          *out++ = textured_colour(t, bytes, uv, colour, true);
+          steps.next(uv);
+          *out++ = white ? small_bilinear_white(t, bytes, lut, uv, colour) : textured_colour(t, bytes, uv, colour, true);
         }
         continue;
       }
