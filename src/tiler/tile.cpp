@@ -63,10 +63,13 @@ constexpr bool kRowsInRegisters = UINTPTR_MAX > 0xFFFFFFFFu;
 // largest left bound to the smallest right bound. Each floor is stepped exactly from row to row (a
 // DDA: two 32-bit divisions an edge, then adds), so each sample gets exactly E >= 0 at its centre,
 // the descent's coverage. The caller keeps every edge value and both steps below 2^30 (rows_fit), so
-// a row's value and remainder sums stay below 2^31.
+// a row's value and remainder sums stay below 2^31. On 64-bit hosts the rows of up to three bounds a
+// side step each floor in 64-bit fixed point instead when that is exact (rows_fixed): one add a bound
+// and row, the bounds compared before their shift (2CylinderEngine at 1024x768: 77.52 M -> 75.58 M
+// instructions a frame, 320x240 54.40 M -> 54.11 M).
 class RowSpans {
  public:
-  void clear() { lower_n_ = upper_n_ = level_n_ = 0; }
+  void clear() { lower_n_ = upper_n_ = level_n_ = max_d_ = 0; }
   void add(int32_t e0, int32_t step_col, int32_t step_row) {
     if (step_col == 0) {
       level_[level_n_++] = Level{e0, step_row};
@@ -74,8 +77,18 @@ class RowSpans {
     }
     Bound& b = step_col > 0 ? lower_[lower_n_++] : upper_[upper_n_++];
     b.d = step_col < 0 ? -step_col : step_col;
-    split(e0, b.d, &b.q, &b.r);
-    split(step_row, b.d, &b.step_q, &b.step_r);
+    // E_0 and B as they are until a loop steps the DDA (dda()): on 64-bit hosts most loops take them
+    // whole, in fixed point (rows_fixed).
+    b.q = e0;
+    b.step_q = step_row;
+    if (kRowsInRegisters) max_d_ = max_of(max_d_, b.d);
+    else b.divide();
+  }
+  // The DDA's quotients and remainders of every bound, for row() (on 64-bit hosts, once before it).
+  void dda() {
+    if (!kRowsInRegisters) return;
+    for (int i = 0; i < lower_n_; ++i) lower_[i].divide();
+    for (int i = 0; i < upper_n_; ++i) upper_[i].divide();
   }
   // The current row's inside columns, [first, last] within [0, last_column] (none when first > last),
   // then on to the next row.
@@ -102,6 +115,7 @@ class RowSpans {
   template <class Emit>
   [[gnu::always_inline]] void each_row(int count, int32_t last_column, Emit emit) {
     if (kRowsInRegisters && in_registers()) return rows(count, last_column, emit);
+    dda();
     for (int y = 0; y < count; ++y) {
       int32_t first, last;
       row(last_column, &first, &last);
@@ -116,20 +130,102 @@ class RowSpans {
   // first > last). Only when in_registers(); one loop for each count of left and right bounds.
   template <class Emit>
   void rows(int count, int32_t last_column, Emit emit) {
+    const bool fixed = fixed_fits(count);
     switch (lower_n_ * 4 + upper_n_) {
-      case 0: case 1: case 4: case 5: return rows_of<1, 1>(count, last_column, emit);
-      case 2: case 6: return rows_of<1, 2>(count, last_column, emit);
-      case 3: case 7: return rows_of<1, 3>(count, last_column, emit);
-      case 8: case 9: return rows_of<2, 1>(count, last_column, emit);
-      case 10: return rows_of<2, 2>(count, last_column, emit);
-      case 11: return rows_of<2, 3>(count, last_column, emit);
-      case 12: case 13: return rows_of<3, 1>(count, last_column, emit);
-      case 14: return rows_of<3, 2>(count, last_column, emit);
-      default: return rows_of<3, 3>(count, last_column, emit);
+      case 0: case 1: case 4: case 5: return rows_with<1, 1>(fixed, count, last_column, emit);
+      case 2: case 6: return rows_with<1, 2>(fixed, count, last_column, emit);
+      case 3: case 7: return rows_with<1, 3>(fixed, count, last_column, emit);
+      case 8: case 9: return rows_with<2, 1>(fixed, count, last_column, emit);
+      case 10: return rows_with<2, 2>(fixed, count, last_column, emit);
+      case 11: return rows_with<2, 3>(fixed, count, last_column, emit);
+      case 12: case 13: return rows_with<3, 1>(fixed, count, last_column, emit);
+      case 14: return rows_with<3, 2>(fixed, count, last_column, emit);
+      default: return rows_with<3, 3>(fixed, count, last_column, emit);
     }
   }
 
  private:
+  // floor(E_j / d) = q with remainder r (0 <= r < d), and its steps from row to row.
+  struct Bound {
+    int32_t d, q, r, step_q, step_r;
+    // q = E_0 and step_q = B (add) to their quotients and remainders.
+    void divide() {
+      split(q, d, &q, &r);
+      split(step_q, d, &step_q, &step_r);
+    }
+    void next_row() {
+      q += step_q;
+      r += step_r;
+      if (r >= d) {
+        r -= d;
+        ++q;
+      }
+    }
+  };
+
+  template <int kLower, int kUpper, class Emit>
+  void rows_with(bool fixed, int count, int32_t last_column, Emit emit) {
+    if (fixed) return rows_fixed<kLower, kUpper>(count, last_column, emit);
+    dda();
+    rows_of<kLower, kUpper>(count, last_column, emit);
+  }
+
+  // A bound in 64-bit fixed point, 32 fraction bits: y is stepped by `step` from row to row and the row's
+  // bound is y >> 32 (rows_fixed).
+  struct Fixed {
+    int64_t y, step;
+  };
+  // Whether rows_fixed is exact for `count` rows: every divisor below 2^32 / count. (A divisor is an
+  // edge's step times the pitch, at least 32: y stays below 2^59.)
+  bool fixed_fits(int count) const { return uint64_t(uint32_t(max_d_)) * uint64_t(count) < (uint64_t(1) << 32); }
+  // Y_j = floor(E_0 2^32 / d) + j floor(B 2^32 / d) + count lies in [E_j 2^32 / d, (floor(E_j / d) + 1) 2^32)
+  // for rows j < count: each floor loses less than one unit, j + 1 <= count of them at row j, and
+  // E_j 2^32 / d is at least 2^32 / d > count units below the next multiple of 2^32 (d count < 2^32,
+  // fixed_fits). So Y_j >> 32 = floor(E_j / d) exactly. A lower bound keeps 2^32 - 1 - Y_j, whose integer
+  // part is -floor(E_j / d): the row's first column, as the upper bound's is its last.
+  static Fixed fixed(const Bound& b, int count, bool lower) {
+    const int64_t y = floor_fraction(b.q, b.d) + count, step = floor_fraction(b.step_q, b.d);
+    if (lower) return Fixed{int64_t(0xFFFFFFFFu) - y, -step};
+    return Fixed{y, step};
+  }
+  // rows_of in fixed point: a row's bounds are the largest lower and the smallest upper y, whose integer
+  // parts are its first and last columns (the shift keeps the order). Missing bounds bound nothing (0 and
+  // last_column).
+  template <int kLower, int kUpper, class Emit>
+  void rows_fixed(int count, int32_t last_column, Emit emit) {
+    const int64_t first_cap = 0, last_cap = int64_t(uint64_t(uint32_t(last_column)) << 32) + 0xFFFFFFFF;
+    const Fixed lnone{first_cap, 0}, unone{last_cap, 0};
+    Fixed l0 = lower_n_ > 0 ? fixed(lower_[0], count, true) : lnone;
+    Fixed l1 = kLower >= 2 ? fixed(lower_[1], count, true) : lnone;
+    Fixed l2 = kLower == 3 ? fixed(lower_[2], count, true) : lnone;
+    Fixed u0 = upper_n_ > 0 ? fixed(upper_[0], count, false) : unone;
+    Fixed u1 = kUpper >= 2 ? fixed(upper_[1], count, false) : unone;
+    Fixed u2 = kUpper == 3 ? fixed(upper_[2], count, false) : unone;
+    for (int y = 0; y < count; ++y) {
+      int64_t lo = max_of(first_cap, l0.y), hi = min_of(last_cap, u0.y);
+      l0.y += l0.step;
+      u0.y += u0.step;
+      if (kLower >= 2) {
+        lo = max_of(lo, l1.y);
+        l1.y += l1.step;
+      }
+      if (kLower == 3) {
+        lo = max_of(lo, l2.y);
+        l2.y += l2.step;
+      }
+      if (kUpper >= 2) {
+        hi = min_of(hi, u1.y);
+        u1.y += u1.step;
+      }
+      if (kUpper == 3) {
+        hi = min_of(hi, u2.y);
+        u2.y += u2.step;
+      }
+      const int32_t first = int32_t(lo >> 32), last = int32_t(hi >> 32);
+      if (first <= last) emit(y, first, last);
+    }
+  }
+
   // rows() with kLower left and kUpper right bounds; a missing one (none of a side) is stood in for by
   // one that bounds nothing (q = 2^30 stays beyond every column: no steps).
   template <int kLower, int kUpper, class Emit>
@@ -163,21 +259,14 @@ class RowSpans {
     }
   }
 
-  // floor(E_j / d) = q with remainder r (0 <= r < d), and its steps from row to row.
-  struct Bound {
-    int32_t d, q, r, step_q, step_r;
-    void next_row() {
-      q += step_q;
-      r += step_r;
-      if (r >= d) {
-        r -= d;
-        ++q;
-      }
-    }
-  };
   struct Level {
     int32_t e, step;
   };
+  // floor(n 2^32 / d), d > 0 (|n| < 2^30, rows_fit: no overflow).
+  static int64_t floor_fraction(int32_t n, int32_t d) {
+    const int64_t x = int64_t(n) * (int64_t(1) << 32);
+    return (x >= 0 ? x : x - (d - 1)) / d;
+  }
   // n = q d + r with 0 <= r < d.
   static void split(int32_t n, int32_t d, int32_t* q, int32_t* r) {
     *q = n / d;
@@ -189,6 +278,7 @@ class RowSpans {
   }
   // No initializers: the arrays would be cleared by a memset each call.
   int lower_n_, upper_n_, level_n_;
+  int32_t max_d_;  // the largest d of the bounds (64-bit hosts)
   Bound lower_[kMaxPolyEdges], upper_[kMaxPolyEdges];
   Level level_[kMaxPolyEdges];
 };
@@ -431,6 +521,7 @@ bool HierTiler::block_samples(const Edges& in, uint64_t* out) const {
     if (!rows_fit(lo, hi, in.a[i] * pitch_, in.b[i] * pitch_)) return false;
     rows.add(int32_t(k0), int32_t(in.a[i] * pitch_), int32_t(in.b[i] * pitch_));
   }
+  rows.dda();
   for (int r = 0; r < 8; ++r) {
     int32_t first, last;
     rows.row(7, &first, &last);
