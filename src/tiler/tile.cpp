@@ -777,33 +777,35 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
   const int f = pyr_->layout.finest();
   const int cx0 = poly.min_x >> 3, cy0 = poly.min_y >> 3;
   const int nx = (poly.max_x >> 3) - cx0 + 1, ny = (poly.max_y >> 3) - cy0 + 1;
-  // Samples already covered in each touched block (all, when an ancestor is covered).
-  uint64_t done[kBlocks][kBlocks];
   // The polygon's samples in each block; only the nx x ny blocks in use are cleared (with the whole
   // array cleared, a memset of 200 bytes a call).
   uint64_t cover[kBlocks][kBlocks];
-  bool open = false;
-  // The box's columns in its first and last block columns, and its rows in its first and last block
-  // rows (the blocks between are whole): a block's samples in the box are one product of the two.
-  const uint32_t col_first = (0xFFu << (poly.min_x & 7)) & 0xFFu, col_last = 0xFFu >> (7 - (poly.max_x & 7));
-  const uint64_t row_first = kAll << (8 * (poly.min_y & 7)), row_last = kAll >> (8 * (7 - (poly.max_y & 7)));
-  // Blocks share their parent's ancestors (at most 2 x 2 parents): those are looked up once a parent,
+  // Blocks share their parent's ancestors (at most 3 x 3 parents): those are looked up once a parent,
   // as the parent's covered blocks (all of them when an ancestor is covered).
   int parent_x = -1, parent_y = -1;
   uint64_t parent_c = 0;
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const int bx = cx0 + i, by = cy0 + j;
-      if ((bx >> 3) != parent_x || (by >> 3) != parent_y) {
-        parent_x = bx >> 3;
-        parent_y = by >> 3;
-        parent_c = covered_above(f - 1, parent_x, parent_y) ? kAll : pyr_->mask(f - 1, parent_x, parent_y).c;
-      }
-      const uint64_t d = (parent_c >> ((by & 7) * 8 + (bx & 7))) & 1 ? kAll : pyr_->block(bx, by);
-      done[j][i] = d;
-      cover[j][i] = 0;
+  // Samples already covered in block (bx, by) (all, when an ancestor is covered). Asked of the first
+  // blocks, for the test below, then only of the blocks the polygon reaches, as they are covered (the
+  // other blocks' writes change no bit of it): most blocks of a small polygon's box miss it.
+  auto done = [&](int bx, int by) {
+    if ((bx >> 3) != parent_x || (by >> 3) != parent_y) {
+      parent_x = bx >> 3;
+      parent_y = by >> 3;
+      parent_c = covered_above(f - 1, parent_x, parent_y) ? kAll : pyr_->mask(f - 1, parent_x, parent_y).c;
+    }
+    return (parent_c >> ((by & 7) * 8 + (bx & 7))) & 1 ? kAll : pyr_->block(bx, by);
+  };
+  // Hidden unless a block holds an uncovered sample of the box. The box's columns in its first and last
+  // block columns, and its rows in its first and last block rows (the blocks between are whole): a
+  // block's samples in the box are one product of the two.
+  const uint32_t col_first = (0xFFu << (poly.min_x & 7)) & 0xFFu, col_last = 0xFFu >> (7 - (poly.max_x & 7));
+  const uint64_t row_first = kAll << (8 * (poly.min_y & 7)), row_last = kAll >> (8 * (7 - (poly.max_y & 7)));
+  bool open = false;
+  for (int j = 0; j < ny && !open; ++j)
+    for (int i = 0; i < nx && !open; ++i) {
+      const uint64_t d = done(cx0 + i, cy0 + j);
       // The box holds samples of every block it touches: an empty block is open without its box bits.
-      if (open || d == kAll) continue;
+      if (d == kAll) continue;
       const uint32_t cols = (i == 0 ? col_first : 0xFFu) & (i == nx - 1 ? col_last : 0xFFu);
       const uint64_t rows_in = (j == 0 ? row_first : kAll) & (j == ny - 1 ? row_last : kAll);
       open = d == 0 || ((cols * 0x0101010101010101u) & rows_in & ~d) != 0;
@@ -815,6 +817,8 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
   if (setup == SmallSetup::TooLarge) return false;
   *result = TileResult::Tiled;
   if (setup == SmallSetup::Outside) return true;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) cover[j][i] = 0;
   const int32_t last_column = poly.max_x - poly.min_x;
   const int s = poly.min_x & 7;  // the box's first column within its block
   const int y0 = poly.min_y & 7;  // the box's first row within its block
@@ -828,7 +832,7 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
   rows.each_row(poly.max_y - poly.min_y + 1, last_column, place);
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i)
-      if (cover[j][i] != 0 && !cover_block(cx0 + i, cy0 + j, cover[j][i] & ~done[j][i], writer)) {
+      if (cover[j][i] != 0 && !cover_block(cx0 + i, cy0 + j, cover[j][i] & ~done(cx0 + i, cy0 + j), writer)) {
         *result = TileResult::Failed;
         return true;
       }
