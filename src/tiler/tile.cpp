@@ -823,7 +823,7 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
   const int s = poly.min_x & 7;  // the box's first column within its block
   const int y0 = poly.min_y & 7;  // the box's first row within its block
   // A row's span placed at its column in the blocks it reaches (row y of the box).
-  auto place = [&](int y, int32_t first, int32_t last) {
+  auto place = [&cover, s, y0](int y, int32_t first, int32_t last) {
     if (kByteRows) return place_bytes(cover[(y + y0) >> 3], (y + y0) & 7, first + s, last + s);
     const typename Grid::Placed row(span_bits<typename Grid::Word>(first, last), s);
     const int j = (y + y0) >> 3, shift = ((y + y0) & 7) * 8;
@@ -872,7 +872,7 @@ bool HierTiler::tile_in_block(const ConvexPoly& poly, CoverageWriter& writer, Ti
   if (setup == SmallSetup::Outside) return true;
   const int s = poly.min_x & 7, y0 = poly.min_y & 7;
   uint64_t cover = 0;
-  auto place = [&](int y, int32_t first, int32_t last) {
+  auto place = [&cover, s, y0](int y, int32_t first, int32_t last) {
     cover |= uint64_t(span_bits<uint32_t>(first, last) << s) << ((y + y0) * 8);
   };
   rows.each_row(poly.max_y - poly.min_y + 1, poly.max_x - poly.min_x, place);
