@@ -55,6 +55,15 @@ bool emit_mask(uint64_t m, int x0, int y0, int q, CoverageWriter& writer) {
 // copy of the row loop is 664 bytes of flash it does not have.
 constexpr bool kRowsInRegisters = UINTPTR_MAX > 0xFFFFFFFFu;
 
+// Row r of an 8x8 mask is its byte r in memory on little-endian 64-bit hosts: tile_small stores a row's
+// span there a byte a block (place_bytes), without the row's word (2CylinderEngine at 1024x768: 75.58 M ->
+// 74.94 M instructions a frame). The boards keep the word (no flash for a second way).
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+constexpr bool kByteRows = UINTPTR_MAX > 0xFFFFFFFFu;
+#else
+constexpr bool kByteRows = false;
+#endif
+
 // A small polygon's coverage, row by row (HierTiler::tile_small, HierTiler::block_samples). For one
 // edge crossing the box, the samples of box row j inside it are the columns col with E_j + A col >= 0,
 // E_j = E_0 + B j (E at the row's first sample centre, A and B the steps between samples): from
@@ -317,7 +326,9 @@ struct GridOf {
   };
 };
 using SmallGrid = GridOf<uint64_t, 56>;
-using WideGrid = GridOf<unsigned __int128, 120>;
+// Placed a byte a block (kByteRows), a row needs no word: wide boxes up to 248 samples, their blocks'
+// array 8 KB of stack (2CylinderEngine, 1024x768: 74.09 M -> 73.44 M a frame, the same at 504).
+using WideGrid = GridOf<unsigned __int128, kByteRows ? 248 : 120>;
 #endif
 // A box inside one finest block tiled without the blocks' arrays (tile_in_block) on 64-bit hosts only:
 // the boards' flash (bundled scene, 320x240: 6.97 M -> 6.81 M a frame; 2CylinderEngine 55.81 M ->
@@ -325,15 +336,6 @@ using WideGrid = GridOf<unsigned __int128, 120>;
 constexpr bool kOneBlockPath = UINTPTR_MAX > 0xFFFFFFFFu;
 // box_visible's witness (BoxWitness) on 64-bit hosts only: the boards' flash.
 constexpr bool kWitness = UINTPTR_MAX > 0xFFFFFFFFu;
-
-// Row r of an 8x8 mask is its byte r in memory on little-endian 64-bit hosts: tile_small stores a row's
-// span there a byte a block (place_bytes), without the row's word (2CylinderEngine at 1024x768: 75.58 M ->
-// 74.94 M instructions a frame). The boards keep the word (no flash for a second way).
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
-constexpr bool kByteRows = UINTPTR_MAX > 0xFFFFFFFFu;
-#else
-constexpr bool kByteRows = false;
-#endif
 
 // Columns a..b (0 <= a <= b) of row r of the masks blocks[a / 8], ..., blocks[b / 8]: the end blocks'
 // bytes cut at a and b, any between full. Stored, not merged: each row of a block is placed once, into
