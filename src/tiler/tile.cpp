@@ -1,5 +1,6 @@
 #include "tiler/tile.h"
 
+#include "core/build.h"
 #include "core/jitter.h"
 #include "tables/mask_tables.h"
 
@@ -78,7 +79,10 @@ constexpr bool kByteRows = false;
 // instructions a frame, 320x240 54.40 M -> 54.11 M).
 class RowSpans {
  public:
-  void clear() { lower_n_ = upper_n_ = level_n_ = max_d_ = 0; }
+  void clear() {
+    lower_n_ = upper_n_ = level_n_ = 0;
+    if (kRowsInRegisters) max_d_ = 0;
+  }
   void add(int32_t e0, int32_t step_col, int32_t step_row) {
     if (step_col == 0) {
       level_[level_n_++] = Level{e0, step_row};
@@ -86,12 +90,16 @@ class RowSpans {
     }
     Bound& b = step_col > 0 ? lower_[lower_n_++] : upper_[upper_n_++];
     b.d = step_col < 0 ? -step_col : step_col;
+    if (!kRowsInRegisters) {
+      split(e0, b.d, &b.q, &b.r);
+      split(step_row, b.d, &b.step_q, &b.step_r);
+      return;
+    }
     // E_0 and B as they are until a loop steps the DDA (dda()): on 64-bit hosts most loops take them
     // whole, in fixed point (rows_fixed).
     b.q = e0;
     b.step_q = step_row;
-    if (kRowsInRegisters) max_d_ = max_of(max_d_, b.d);
-    else b.divide();
+    max_d_ = max_of(max_d_, b.d);
   }
   // The DDA's quotients and remainders of every bound, for row() (on 64-bit hosts, once before it).
   void dda() {
@@ -761,7 +769,7 @@ void HierTiler::propagate_up(int level, int mx, int my) {
 
 // Whether a cell's ancestor (a subcell of a coarser mask on its path) is covered: the cell's contents
 // may then be stale.
-inline bool HierTiler::covered_above(int level, int mx, int my) const {
+ML_BOARD_NOINLINE ML_BOARD_SIZE inline bool HierTiler::covered_above(int level, int mx, int my) const {
   for (int l = 0, d = 3 * (level - 1); l < level; ++l, d -= 3) {
     const int cx = mx >> d, cy = my >> d;  // the level-(l + 1) cell on the path: a subcell of mask l
     if ((pyr_->mask(l, cx >> 3, cy >> 3).c >> ((cy & 7) * 8 + (cx & 7))) & 1) return true;
@@ -776,27 +784,16 @@ inline bool HierTiler::covered_above(int level, int mx, int my) const {
 template <class Grid>
 bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result) {
   constexpr int kBlocks = Grid::kSamples / 8 + 1;
-  const int f = pyr_->layout.finest();
   const int cx0 = poly.min_x >> 3, cy0 = poly.min_y >> 3;
   const int nx = (poly.max_x >> 3) - cx0 + 1, ny = (poly.max_y >> 3) - cy0 + 1;
   // The polygon's samples in each block; only the nx x ny blocks in use are cleared (with the whole
   // array cleared, a memset of 200 bytes a call).
   uint64_t cover[kBlocks][kBlocks];
-  // Blocks share their parent's ancestors (at most 3 x 3 parents): those are looked up once a parent,
-  // as the parent's covered blocks (all of them when an ancestor is covered).
-  int parent_x = -1, parent_y = -1;
-  uint64_t parent_c = 0;
-  // Samples already covered in block (bx, by) (all, when an ancestor is covered). Asked of the first
-  // blocks, for the test below, then only of the blocks the polygon reaches, as they are covered (the
-  // other blocks' writes change no bit of it): most blocks of a small polygon's box miss it.
-  auto done = [&](int bx, int by) {
-    if ((bx >> 3) != parent_x || (by >> 3) != parent_y) {
-      parent_x = bx >> 3;
-      parent_y = by >> 3;
-      parent_c = covered_above(f - 1, parent_x, parent_y) ? kAll : pyr_->mask(f - 1, parent_x, parent_y).c;
-    }
-    return (parent_c >> ((by & 7) * 8 + (bx & 7))) & 1 ? kAll : pyr_->block(bx, by);
-  };
+  // The blocks' covered samples (block_done) are asked of the first blocks, for the test below, then
+  // only of the blocks the polygon reaches, as they are covered (the other blocks' writes change no bit
+  // of them): most blocks of a small polygon's box miss it.
+  ParentCover parent;
+  auto done = [&](int bx, int by) { return block_done(bx, by, &parent); };
   // Hidden unless a block holds an uncovered sample of the box. The box's columns in its first and last
   // block columns, and its rows in its first and last block rows (the blocks between are whole): a
   // block's samples in the box are one product of the two.
@@ -839,6 +836,20 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
         return true;
       }
   return true;
+}
+
+// Samples already covered in finest block (bx, by): all of them when an ancestor is covered. Blocks share
+// their parent's ancestors (a small polygon's box has at most 3 x 3 parents): those are looked up once a
+// parent, as the parent's covered blocks, kept in *parent. Out of line and small on the boards, as is
+// covered_above: tile_small asks it at two places (the Cortex-M0+ image's flash).
+ML_BOARD_NOINLINE ML_BOARD_SIZE inline uint64_t HierTiler::block_done(int bx, int by, ParentCover* parent) const {
+  if ((bx >> 3) != parent->x || (by >> 3) != parent->y) {
+    const int f = pyr_->layout.finest();
+    parent->x = bx >> 3;
+    parent->y = by >> 3;
+    parent->c = covered_above(f - 1, parent->x, parent->y) ? kAll : pyr_->mask(f - 1, parent->x, parent->y).c;
+  }
+  return (parent->c >> ((by & 7) * 8 + (bx & 7))) & 1 ? kAll : pyr_->block(bx, by);
 }
 
 // Covers samples w (none of them covered yet) of finest block (bx, by), which the polygon reached, and

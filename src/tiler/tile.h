@@ -218,6 +218,11 @@ class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)> {
   bool tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result);
   bool tile_in_block(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result);
   bool cover_block(int bx, int by, uint64_t w, CoverageWriter& writer);
+  struct ParentCover {  // the covered blocks of finest-level parent (x, y) (block_done)
+    int x = -1, y = -1;
+    uint64_t c = 0;
+  };
+  uint64_t block_done(int bx, int by, ParentCover* parent) const;
   bool covered_above(int level, int mx, int my) const;
   bool query_cell(int level, int mx, int my, const Edges& in) const;
   bool background_cell(int level, int mx, int my, CoverageWriter& writer);
