@@ -345,13 +345,18 @@ constexpr bool kOneBlockPath = UINTPTR_MAX > 0xFFFFFFFFu;
 // box_visible's witness (BoxWitness) on 64-bit hosts only: the boards' flash.
 constexpr bool kWitness = UINTPTR_MAX > 0xFFFFFFFFu;
 
+// A row byte's columns c.. and ..c (looked up: a variable shift costs moves into the count register;
+// 2CylinderEngine at 1024x768: 73.19 M -> 72.89 M instructions a frame).
+constexpr uint8_t kFrom[8] = {0xFF, 0xFE, 0xFC, 0xF8, 0xF0, 0xE0, 0xC0, 0x80};
+constexpr uint8_t kTo[8] = {0x01, 0x03, 0x07, 0x0F, 0x1F, 0x3F, 0x7F, 0xFF};
+
 // Columns a..b (0 <= a <= b) of row r of the masks blocks[a / 8], ..., blocks[b / 8]: the end blocks'
 // bytes cut at a and b, any between full. Stored, not merged: each row of a block is placed once, into
 // a cleared mask.
 inline void place_bytes(uint64_t* blocks, int r, int32_t a, int32_t b) {
   uint8_t* at = reinterpret_cast<uint8_t*>(blocks + (a >> 3)) + r;
   const int n = (b >> 3) - (a >> 3);
-  const uint32_t head = 0xFFu << (a & 7), tail = 0xFFu >> (7 - (b & 7));
+  const uint32_t head = kFrom[a & 7], tail = kTo[b & 7];
   if (n == 0) {
     *at = uint8_t(head & tail);
     return;
@@ -886,6 +891,10 @@ bool HierTiler::tile_in_block(const ConvexPoly& poly, CoverageWriter& writer, Ti
   const int s = poly.min_x & 7, y0 = poly.min_y & 7;
   uint64_t cover = 0;
   auto place = [&cover, s, y0](int y, int32_t first, int32_t last) {
+    if (kByteRows) {
+      reinterpret_cast<uint8_t*>(&cover)[y + y0] = uint8_t(kFrom[first + s] & kTo[last + s]);
+      return;
+    }
     cover |= uint64_t(span_bits<uint32_t>(first, last) << s) << ((y + y0) * 8);
   };
   rows.each_row(poly.max_y - poly.min_y + 1, poly.max_x - poly.min_x, place);
