@@ -655,8 +655,18 @@ bool HierTiler::query_cell(int level, int mx, int my, const Edges& in) const {
 
 // The bits of an 8x8 mask in columns c0..c1 and rows r0..r1 (0 <= c0 <= c1 <= 7, 0 <= r0 <= r1 <= 7).
 inline uint64_t range_mask(int c0, int c1, int r0, int r1) {
+#if UINTPTR_MAX > 0xFFFFFFFFu
+  // Looked up on 64-bit hosts, as place_bytes's bytes (2CylinderEngine at 1024x768: 72.84 M -> 72.75 M);
+  // the boards keep the shifts (no flash for the tables). Rows r.. and ..r:
+  static constexpr uint64_t kRowsFrom[8] = {kAll,       kAll << 8,  kAll << 16, kAll << 24,
+                                            kAll << 32, kAll << 40, kAll << 48, kAll << 56};
+  static constexpr uint64_t kRowsTo[8] = {kAll >> 56, kAll >> 48, kAll >> 40, kAll >> 32,
+                                          kAll >> 24, kAll >> 16, kAll >> 8,  kAll};
+  return (uint64_t(kFrom[c0] & kTo[c1]) * 0x0101010101010101u) & kRowsFrom[r0] & kRowsTo[r1];
+#else
   const uint32_t row = (0xFFu >> (7 - c1)) & (0xFFu << c0);
   return (uint64_t(row) * 0x0101010101010101u) & (kAll >> (8 * (7 - r1))) & (kAll << (8 * r0));  // rows r0..r1
+#endif
 }
 
 // The subcells of mask (mx, my) inside the box of subcells [x0, x1] x [y0, y1] (x0, y0 >= 0), which
