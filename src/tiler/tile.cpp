@@ -344,6 +344,8 @@ using WideGrid = GridOf<unsigned __int128, kByteRows ? 248 : 120>;
 constexpr bool kOneBlockPath = UINTPTR_MAX > 0xFFFFFFFFu;
 // box_visible's witness (BoxWitness) on 64-bit hosts only: the boards' flash.
 constexpr bool kWitness = UINTPTR_MAX > 0xFFFFFFFFu;
+// tile_small's parent kept from polygon to polygon (KeptParent) on 64-bit hosts only, likewise.
+constexpr bool kKeptParent = UINTPTR_MAX > 0xFFFFFFFFu;
 
 // A row byte's columns c.. and ..c (looked up: a variable shift costs moves into the count register;
 // 2CylinderEngine at 1024x768: 73.19 M -> 72.89 M instructions a frame).
@@ -463,6 +465,7 @@ void HierTiler::init(Pyramid* pyramid, int32_t pitch, WorkImage* work, int work_
   work_ = work;
   work_row0_ = work_row0;
   if (kWitness) forget_witness();
+  if (kKeptParent) forget_parent();
 }
 
 bool HierTiler::poly_mask(int level, const Edges& in, Edges* crossing, uint64_t* pc,
@@ -761,6 +764,7 @@ bool HierTiler::start_cell(const ConvexPoly& poly, int* level, int* mx, int* my)
 
 // Carries a cell's new status to every ancestor (tiling may start below the root).
 void HierTiler::propagate_up(int level, int mx, int my) {
+  if (kKeptParent) forget_parent();  // triage masks change
   const PyramidLayout& lay = pyr_->layout;
   for (int l = level; l > 0; --l) {
     bool all_covered, none_covered;
@@ -807,8 +811,9 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
   // The blocks' covered samples (block_done) are asked of the first blocks, for the test below, then
   // only of the blocks the polygon reaches, as they are covered (the other blocks' writes change no bit
   // of them): most blocks of a small polygon's box miss it.
-  ParentCover parent;
-  auto done = [&](int bx, int by) { return block_done(bx, by, &parent); };
+  ParentCover local;
+  ParentCover* parent = kKeptParent ? kept_parent() : &local;
+  auto done = [&](int bx, int by) { return block_done(bx, by, parent); };
   // Hidden unless a block holds an uncovered sample of the box. The box's columns in its first and last
   // block columns, and its rows in its first and last block rows (the blocks between are whole): a
   // block's samples in the box are one product of the two.
@@ -885,12 +890,9 @@ inline bool HierTiler::cover_block(int bx, int by, uint64_t w, CoverageWriter& w
 
 // tile_small for a box inside one finest block: one mask, no arrays.
 bool HierTiler::tile_in_block(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result) {
-  const int f = pyr_->layout.finest();
   const int bx = poly.min_x >> 3, by = poly.min_y >> 3;
-  const uint64_t done = covered_above(f - 1, bx >> 3, by >> 3) ||
-                                ((pyr_->mask(f - 1, bx >> 3, by >> 3).c >> ((by & 7) * 8 + (bx & 7))) & 1)
-                            ? kAll
-                            : pyr_->block(bx, by);
+  ParentCover local;
+  const uint64_t done = block_done(bx, by, kKeptParent ? kept_parent() : &local);
   *result = TileResult::Hidden;
   if ((range_mask(poly.min_x & 7, poly.max_x & 7, poly.min_y & 7, poly.max_y & 7) & ~done) == 0) return true;
   RowSpans rows;
@@ -943,6 +945,7 @@ TileResult HierTiler::tile(const ConvexPoly& poly, CoverageWriter& writer) {
   int level, mx, my;
   if (!start_cell(poly, &level, &mx, &my)) return TileResult::Hidden;
   if (kWitness) forget_witness();
+  if (kKeptParent) forget_parent();  // the descent changes triage masks
   Edges edges;
   edges_at_cell(poly, level, mx, my, &edges);
   const bool ok = tile_cell(level, mx, my, edges, writer);
@@ -1009,6 +1012,7 @@ bool HierTiler::background_cell(int level, int mx, int my, CoverageWriter& write
 
 bool HierTiler::background(CoverageWriter& writer) {
   if (kWitness) forget_witness();
+  if (kKeptParent) forget_parent();
   return background_cell(0, 0, 0, writer);
 }
 
