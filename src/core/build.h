@@ -29,6 +29,14 @@
 #define ML_BOARD_NOINLINE [[gnu::noinline]]
 #endif
 
+// Optimized for size on the boards only, the build's level on 64-bit hosts (with ML_BOARD_NOINLINE: a
+// helper the boards keep one small copy of and the hosts inline as they see fit).
+#if UINTPTR_MAX > 0xFFFFFFFFu
+#define ML_BOARD_SIZE
+#else
+#define ML_BOARD_SIZE ML_OPTIMIZE_SIZE
+#endif
+
 // Before a loop of a few passes written as a loop for the boards' flash: unrolled on 64-bit hosts,
 // where GCC's -O2 would keep the loop (and its arrays in memory rather than registers).
 #if UINTPTR_MAX > 0xFFFFFFFFu

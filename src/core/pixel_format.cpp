@@ -291,7 +291,7 @@ void fill_mask_bytes(uint8_t* line, uint32_t stride, uint64_t mask, const uint8_
       }
       continue;
     }
-    for (; bits != 0; bits &= bits - 1) memcpy(line + __builtin_ctz(bits) * kBytes, pattern, kBytes);
+    for (; bits != 0; bits &= bits - 1) memcpy(line + size_t(__builtin_ctz(bits)) * kBytes, pattern, kBytes);
   }
 }
 

@@ -1,5 +1,6 @@
 #include "tiler/tile.h"
 
+#include "core/build.h"
 #include "core/jitter.h"
 #include "tables/mask_tables.h"
 
@@ -55,6 +56,15 @@ bool emit_mask(uint64_t m, int x0, int y0, int q, CoverageWriter& writer) {
 // copy of the row loop is 664 bytes of flash it does not have.
 constexpr bool kRowsInRegisters = UINTPTR_MAX > 0xFFFFFFFFu;
 
+// Row r of an 8x8 mask is its byte r in memory on little-endian 64-bit hosts: tile_small stores a row's
+// span there a byte a block (place_bytes), without the row's word (2CylinderEngine at 1024x768: 75.58 M ->
+// 74.94 M instructions a frame). The boards keep the word (no flash for a second way).
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+constexpr bool kByteRows = UINTPTR_MAX > 0xFFFFFFFFu;
+#else
+constexpr bool kByteRows = false;
+#endif
+
 // A small polygon's coverage, row by row (HierTiler::tile_small, HierTiler::block_samples). For one
 // edge crossing the box, the samples of box row j inside it are the columns col with E_j + A col >= 0,
 // E_j = E_0 + B j (E at the row's first sample centre, A and B the steps between samples): from
@@ -63,10 +73,16 @@ constexpr bool kRowsInRegisters = UINTPTR_MAX > 0xFFFFFFFFu;
 // largest left bound to the smallest right bound. Each floor is stepped exactly from row to row (a
 // DDA: two 32-bit divisions an edge, then adds), so each sample gets exactly E >= 0 at its centre,
 // the descent's coverage. The caller keeps every edge value and both steps below 2^30 (rows_fit), so
-// a row's value and remainder sums stay below 2^31.
+// a row's value and remainder sums stay below 2^31. On 64-bit hosts the rows of up to three bounds a
+// side step each floor in 64-bit fixed point instead when that is exact (rows_fixed): one add a bound
+// and row, the bounds compared before their shift (2CylinderEngine at 1024x768: 77.52 M -> 75.58 M
+// instructions a frame, 320x240 54.40 M -> 54.11 M).
 class RowSpans {
  public:
-  void clear() { lower_n_ = upper_n_ = level_n_ = 0; }
+  void clear() {
+    lower_n_ = upper_n_ = level_n_ = 0;
+    if (kRowsInRegisters) max_d_ = 0;
+  }
   void add(int32_t e0, int32_t step_col, int32_t step_row) {
     if (step_col == 0) {
       level_[level_n_++] = Level{e0, step_row};
@@ -74,8 +90,22 @@ class RowSpans {
     }
     Bound& b = step_col > 0 ? lower_[lower_n_++] : upper_[upper_n_++];
     b.d = step_col < 0 ? -step_col : step_col;
-    split(e0, b.d, &b.q, &b.r);
-    split(step_row, b.d, &b.step_q, &b.step_r);
+    if (!kRowsInRegisters) {
+      split(e0, b.d, &b.q, &b.r);
+      split(step_row, b.d, &b.step_q, &b.step_r);
+      return;
+    }
+    // E_0 and B as they are until a loop steps the DDA (dda()): on 64-bit hosts most loops take them
+    // whole, in fixed point (rows_fixed).
+    b.q = e0;
+    b.step_q = step_row;
+    max_d_ = max_of(max_d_, b.d);
+  }
+  // The DDA's quotients and remainders of every bound, for row() (on 64-bit hosts, once before it).
+  void dda() {
+    if (!kRowsInRegisters) return;
+    for (int i = 0; i < lower_n_; ++i) lower_[i].divide();
+    for (int i = 0; i < upper_n_; ++i) upper_[i].divide();
   }
   // The current row's inside columns, [first, last] within [0, last_column] (none when first > last),
   // then on to the next row.
@@ -102,6 +132,7 @@ class RowSpans {
   template <class Emit>
   [[gnu::always_inline]] void each_row(int count, int32_t last_column, Emit emit) {
     if (kRowsInRegisters && in_registers()) return rows(count, last_column, emit);
+    dda();
     for (int y = 0; y < count; ++y) {
       int32_t first, last;
       row(last_column, &first, &last);
@@ -116,20 +147,102 @@ class RowSpans {
   // first > last). Only when in_registers(); one loop for each count of left and right bounds.
   template <class Emit>
   void rows(int count, int32_t last_column, Emit emit) {
+    const bool fixed = fixed_fits(count);
     switch (lower_n_ * 4 + upper_n_) {
-      case 0: case 1: case 4: case 5: return rows_of<1, 1>(count, last_column, emit);
-      case 2: case 6: return rows_of<1, 2>(count, last_column, emit);
-      case 3: case 7: return rows_of<1, 3>(count, last_column, emit);
-      case 8: case 9: return rows_of<2, 1>(count, last_column, emit);
-      case 10: return rows_of<2, 2>(count, last_column, emit);
-      case 11: return rows_of<2, 3>(count, last_column, emit);
-      case 12: case 13: return rows_of<3, 1>(count, last_column, emit);
-      case 14: return rows_of<3, 2>(count, last_column, emit);
-      default: return rows_of<3, 3>(count, last_column, emit);
+      case 0: case 1: case 4: case 5: return rows_with<1, 1>(fixed, count, last_column, emit);
+      case 2: case 6: return rows_with<1, 2>(fixed, count, last_column, emit);
+      case 3: case 7: return rows_with<1, 3>(fixed, count, last_column, emit);
+      case 8: case 9: return rows_with<2, 1>(fixed, count, last_column, emit);
+      case 10: return rows_with<2, 2>(fixed, count, last_column, emit);
+      case 11: return rows_with<2, 3>(fixed, count, last_column, emit);
+      case 12: case 13: return rows_with<3, 1>(fixed, count, last_column, emit);
+      case 14: return rows_with<3, 2>(fixed, count, last_column, emit);
+      default: return rows_with<3, 3>(fixed, count, last_column, emit);
     }
   }
 
  private:
+  // floor(E_j / d) = q with remainder r (0 <= r < d), and its steps from row to row.
+  struct Bound {
+    int32_t d, q, r, step_q, step_r;
+    // q = E_0 and step_q = B (add) to their quotients and remainders.
+    void divide() {
+      split(q, d, &q, &r);
+      split(step_q, d, &step_q, &step_r);
+    }
+    void next_row() {
+      q += step_q;
+      r += step_r;
+      if (r >= d) {
+        r -= d;
+        ++q;
+      }
+    }
+  };
+
+  template <int kLower, int kUpper, class Emit>
+  void rows_with(bool fixed, int count, int32_t last_column, Emit emit) {
+    if (fixed) return rows_fixed<kLower, kUpper>(count, last_column, emit);
+    dda();
+    rows_of<kLower, kUpper>(count, last_column, emit);
+  }
+
+  // A bound in 64-bit fixed point, 32 fraction bits: y is stepped by `step` from row to row and the row's
+  // bound is y >> 32 (rows_fixed).
+  struct Fixed {
+    int64_t y, step;
+  };
+  // Whether rows_fixed is exact for `count` rows: every divisor below 2^32 / count. (A divisor is an
+  // edge's step times the pitch, at least 32: y stays below 2^59.)
+  bool fixed_fits(int count) const { return uint64_t(uint32_t(max_d_)) * uint64_t(count) < (uint64_t(1) << 32); }
+  // Y_j = floor(E_0 2^32 / d) + j floor(B 2^32 / d) + count lies in [E_j 2^32 / d, (floor(E_j / d) + 1) 2^32)
+  // for rows j < count: each floor loses less than one unit, j + 1 <= count of them at row j, and
+  // E_j 2^32 / d is at least 2^32 / d > count units below the next multiple of 2^32 (d count < 2^32,
+  // fixed_fits). So Y_j >> 32 = floor(E_j / d) exactly. A lower bound keeps 2^32 - 1 - Y_j, whose integer
+  // part is -floor(E_j / d): the row's first column, as the upper bound's is its last.
+  static Fixed fixed(const Bound& b, int count, bool lower) {
+    const int64_t y = floor_fraction(b.q, b.d) + count, step = floor_fraction(b.step_q, b.d);
+    if (lower) return Fixed{int64_t(0xFFFFFFFFu) - y, -step};
+    return Fixed{y, step};
+  }
+  // rows_of in fixed point: a row's bounds are the largest lower and the smallest upper y, whose integer
+  // parts are its first and last columns (the shift keeps the order). Missing bounds bound nothing (0 and
+  // last_column).
+  template <int kLower, int kUpper, class Emit>
+  void rows_fixed(int count, int32_t last_column, Emit emit) {
+    const int64_t first_cap = 0, last_cap = int64_t(uint64_t(uint32_t(last_column)) << 32) + 0xFFFFFFFF;
+    const Fixed lnone{first_cap, 0}, unone{last_cap, 0};
+    Fixed l0 = lower_n_ > 0 ? fixed(lower_[0], count, true) : lnone;
+    Fixed l1 = kLower >= 2 ? fixed(lower_[1], count, true) : lnone;
+    Fixed l2 = kLower == 3 ? fixed(lower_[2], count, true) : lnone;
+    Fixed u0 = upper_n_ > 0 ? fixed(upper_[0], count, false) : unone;
+    Fixed u1 = kUpper >= 2 ? fixed(upper_[1], count, false) : unone;
+    Fixed u2 = kUpper == 3 ? fixed(upper_[2], count, false) : unone;
+    for (int y = 0; y < count; ++y) {
+      int64_t lo = max_of(first_cap, l0.y), hi = min_of(last_cap, u0.y);
+      l0.y += l0.step;
+      u0.y += u0.step;
+      if (kLower >= 2) {
+        lo = max_of(lo, l1.y);
+        l1.y += l1.step;
+      }
+      if (kLower == 3) {
+        lo = max_of(lo, l2.y);
+        l2.y += l2.step;
+      }
+      if (kUpper >= 2) {
+        hi = min_of(hi, u1.y);
+        u1.y += u1.step;
+      }
+      if (kUpper == 3) {
+        hi = min_of(hi, u2.y);
+        u2.y += u2.step;
+      }
+      const int32_t first = int32_t(lo >> 32), last = int32_t(hi >> 32);
+      if (first <= last) emit(y, first, last);
+    }
+  }
+
   // rows() with kLower left and kUpper right bounds; a missing one (none of a side) is stood in for by
   // one that bounds nothing (q = 2^30 stays beyond every column: no steps).
   template <int kLower, int kUpper, class Emit>
@@ -163,21 +276,14 @@ class RowSpans {
     }
   }
 
-  // floor(E_j / d) = q with remainder r (0 <= r < d), and its steps from row to row.
-  struct Bound {
-    int32_t d, q, r, step_q, step_r;
-    void next_row() {
-      q += step_q;
-      r += step_r;
-      if (r >= d) {
-        r -= d;
-        ++q;
-      }
-    }
-  };
   struct Level {
     int32_t e, step;
   };
+  // floor(n 2^32 / d), d > 0 (|n| < 2^30, rows_fit: no overflow).
+  static int64_t floor_fraction(int32_t n, int32_t d) {
+    const int64_t x = int64_t(n) * (int64_t(1) << 32);
+    return (x >= 0 ? x : x - (d - 1)) / d;
+  }
   // n = q d + r with 0 <= r < d.
   static void split(int32_t n, int32_t d, int32_t* q, int32_t* r) {
     *q = n / d;
@@ -189,6 +295,7 @@ class RowSpans {
   }
   // No initializers: the arrays would be cleared by a memset each call.
   int lower_n_, upper_n_, level_n_;
+  int32_t max_d_;  // the largest d of the bounds (64-bit hosts)
   Bound lower_[kMaxPolyEdges], upper_[kMaxPolyEdges];
   Level level_[kMaxPolyEdges];
 };
@@ -227,7 +334,9 @@ struct GridOf {
   };
 };
 using SmallGrid = GridOf<uint64_t, 56>;
-using WideGrid = GridOf<unsigned __int128, 120>;
+// Placed a byte a block (kByteRows), a row needs no word: wide boxes up to 248 samples, their blocks'
+// array 8 KB of stack (2CylinderEngine, 1024x768: 74.09 M -> 73.44 M a frame, the same at 504).
+using WideGrid = GridOf<unsigned __int128, kByteRows ? 248 : 120>;
 #endif
 // A box inside one finest block tiled without the blocks' arrays (tile_in_block) on 64-bit hosts only:
 // the boards' flash (bundled scene, 320x240: 6.97 M -> 6.81 M a frame; 2CylinderEngine 55.81 M ->
@@ -235,6 +344,29 @@ using WideGrid = GridOf<unsigned __int128, 120>;
 constexpr bool kOneBlockPath = UINTPTR_MAX > 0xFFFFFFFFu;
 // box_visible's witness (BoxWitness) on 64-bit hosts only: the boards' flash.
 constexpr bool kWitness = UINTPTR_MAX > 0xFFFFFFFFu;
+// tile_small's parent kept from polygon to polygon (KeptParent) on 64-bit hosts only, likewise.
+constexpr bool kKeptParent = UINTPTR_MAX > 0xFFFFFFFFu;
+
+// A row byte's columns c.. and ..c (looked up: a variable shift costs moves into the count register;
+// 2CylinderEngine at 1024x768: 73.19 M -> 72.89 M instructions a frame).
+constexpr uint8_t kFrom[8] = {0xFF, 0xFE, 0xFC, 0xF8, 0xF0, 0xE0, 0xC0, 0x80};
+constexpr uint8_t kTo[8] = {0x01, 0x03, 0x07, 0x0F, 0x1F, 0x3F, 0x7F, 0xFF};
+
+// Columns a..b (0 <= a <= b) of row r of the masks blocks[a / 8], ..., blocks[b / 8]: the end blocks'
+// bytes cut at a and b, any between full. Stored, not merged: each row of a block is placed once, into
+// a cleared mask.
+inline void place_bytes(uint64_t* blocks, int r, int32_t a, int32_t b) {
+  uint8_t* at = reinterpret_cast<uint8_t*>(blocks + (a >> 3)) + r;
+  const int n = (b >> 3) - (a >> 3);
+  const uint32_t head = kFrom[a & 7], tail = kTo[b & 7];
+  if (n == 0) {
+    *at = uint8_t(head & tail);
+    return;
+  }
+  *at = uint8_t(head);
+  for (int i = 1; i < n; ++i) at[8 * i] = 0xFFu;
+  at[8 * n] = uint8_t(tail);
+}
 
 // Bits first..last of a row (0 <= first <= last < the grid's kSamples).
 template <class Word>
@@ -333,6 +465,7 @@ void HierTiler::init(Pyramid* pyramid, int32_t pitch, WorkImage* work, int work_
   work_ = work;
   work_row0_ = work_row0;
   if (kWitness) forget_witness();
+  if (kKeptParent) forget_parent();
 }
 
 bool HierTiler::poly_mask(int level, const Edges& in, Edges* crossing, uint64_t* pc,
@@ -431,6 +564,7 @@ bool HierTiler::block_samples(const Edges& in, uint64_t* out) const {
     if (!rows_fit(lo, hi, in.a[i] * pitch_, in.b[i] * pitch_)) return false;
     rows.add(int32_t(k0), int32_t(in.a[i] * pitch_), int32_t(in.b[i] * pitch_));
   }
+  rows.dda();
   for (int r = 0; r < 8; ++r) {
     int32_t first, last;
     rows.row(7, &first, &last);
@@ -524,8 +658,18 @@ bool HierTiler::query_cell(int level, int mx, int my, const Edges& in) const {
 
 // The bits of an 8x8 mask in columns c0..c1 and rows r0..r1 (0 <= c0 <= c1 <= 7, 0 <= r0 <= r1 <= 7).
 inline uint64_t range_mask(int c0, int c1, int r0, int r1) {
+#if UINTPTR_MAX > 0xFFFFFFFFu
+  // Looked up on 64-bit hosts, as place_bytes's bytes (2CylinderEngine at 1024x768: 72.84 M -> 72.75 M);
+  // the boards keep the shifts (no flash for the tables). Rows r.. and ..r:
+  static constexpr uint64_t kRowsFrom[8] = {kAll,       kAll << 8,  kAll << 16, kAll << 24,
+                                            kAll << 32, kAll << 40, kAll << 48, kAll << 56};
+  static constexpr uint64_t kRowsTo[8] = {kAll >> 56, kAll >> 48, kAll >> 40, kAll >> 32,
+                                          kAll >> 24, kAll >> 16, kAll >> 8,  kAll};
+  return (uint64_t(kFrom[c0] & kTo[c1]) * 0x0101010101010101u) & kRowsFrom[r0] & kRowsTo[r1];
+#else
   const uint32_t row = (0xFFu >> (7 - c1)) & (0xFFu << c0);
   return (uint64_t(row) * 0x0101010101010101u) & (kAll >> (8 * (7 - r1))) & (kAll << (8 * r0));  // rows r0..r1
+#endif
 }
 
 // The subcells of mask (mx, my) inside the box of subcells [x0, x1] x [y0, y1] (x0, y0 >= 0), which
@@ -620,6 +764,7 @@ bool HierTiler::start_cell(const ConvexPoly& poly, int* level, int* mx, int* my)
 
 // Carries a cell's new status to every ancestor (tiling may start below the root).
 void HierTiler::propagate_up(int level, int mx, int my) {
+  if (kKeptParent) forget_parent();  // triage masks change
   const PyramidLayout& lay = pyr_->layout;
   for (int l = level; l > 0; --l) {
     bool all_covered, none_covered;
@@ -643,7 +788,7 @@ void HierTiler::propagate_up(int level, int mx, int my) {
 
 // Whether a cell's ancestor (a subcell of a coarser mask on its path) is covered: the cell's contents
 // may then be stale.
-inline bool HierTiler::covered_above(int level, int mx, int my) const {
+ML_BOARD_NOINLINE ML_BOARD_SIZE inline bool HierTiler::covered_above(int level, int mx, int my) const {
   for (int l = 0, d = 3 * (level - 1); l < level; ++l, d -= 3) {
     const int cx = mx >> d, cy = my >> d;  // the level-(l + 1) cell on the path: a subcell of mask l
     if ((pyr_->mask(l, cx >> 3, cy >> 3).c >> ((cy & 7) * 8 + (cx & 7))) & 1) return true;
@@ -658,36 +803,28 @@ inline bool HierTiler::covered_above(int level, int mx, int my) const {
 template <class Grid>
 bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result) {
   constexpr int kBlocks = Grid::kSamples / 8 + 1;
-  const int f = pyr_->layout.finest();
   const int cx0 = poly.min_x >> 3, cy0 = poly.min_y >> 3;
   const int nx = (poly.max_x >> 3) - cx0 + 1, ny = (poly.max_y >> 3) - cy0 + 1;
-  // Samples already covered in each touched block (all, when an ancestor is covered).
-  uint64_t done[kBlocks][kBlocks];
   // The polygon's samples in each block; only the nx x ny blocks in use are cleared (with the whole
   // array cleared, a memset of 200 bytes a call).
   uint64_t cover[kBlocks][kBlocks];
-  bool open = false;
-  // The box's columns in its first and last block columns, and its rows in its first and last block
-  // rows (the blocks between are whole): a block's samples in the box are one product of the two.
+  // The blocks' covered samples (block_done) are asked of the first blocks, for the test below, then
+  // only of the blocks the polygon reaches, as they are covered (the other blocks' writes change no bit
+  // of them): most blocks of a small polygon's box miss it.
+  ParentCover local;
+  ParentCover* parent = kKeptParent ? kept_parent() : &local;
+  auto done = [&](int bx, int by) { return block_done(bx, by, parent); };
+  // Hidden unless a block holds an uncovered sample of the box. The box's columns in its first and last
+  // block columns, and its rows in its first and last block rows (the blocks between are whole): a
+  // block's samples in the box are one product of the two.
   const uint32_t col_first = (0xFFu << (poly.min_x & 7)) & 0xFFu, col_last = 0xFFu >> (7 - (poly.max_x & 7));
   const uint64_t row_first = kAll << (8 * (poly.min_y & 7)), row_last = kAll >> (8 * (7 - (poly.max_y & 7)));
-  // Blocks share their parent's ancestors (at most 2 x 2 parents): those are looked up once a parent,
-  // as the parent's covered blocks (all of them when an ancestor is covered).
-  int parent_x = -1, parent_y = -1;
-  uint64_t parent_c = 0;
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const int bx = cx0 + i, by = cy0 + j;
-      if ((bx >> 3) != parent_x || (by >> 3) != parent_y) {
-        parent_x = bx >> 3;
-        parent_y = by >> 3;
-        parent_c = covered_above(f - 1, parent_x, parent_y) ? kAll : pyr_->mask(f - 1, parent_x, parent_y).c;
-      }
-      const uint64_t d = (parent_c >> ((by & 7) * 8 + (bx & 7))) & 1 ? kAll : pyr_->block(bx, by);
-      done[j][i] = d;
-      cover[j][i] = 0;
+  bool open = false;
+  for (int j = 0; j < ny && !open; ++j)
+    for (int i = 0; i < nx && !open; ++i) {
+      const uint64_t d = done(cx0 + i, cy0 + j);
       // The box holds samples of every block it touches: an empty block is open without its box bits.
-      if (open || d == kAll) continue;
+      if (d == kAll) continue;
       const uint32_t cols = (i == 0 ? col_first : 0xFFu) & (i == nx - 1 ? col_last : 0xFFu);
       const uint64_t rows_in = (j == 0 ? row_first : kAll) & (j == ny - 1 ? row_last : kAll);
       open = d == 0 || ((cols * 0x0101010101010101u) & rows_in & ~d) != 0;
@@ -699,11 +836,14 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
   if (setup == SmallSetup::TooLarge) return false;
   *result = TileResult::Tiled;
   if (setup == SmallSetup::Outside) return true;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) cover[j][i] = 0;
   const int32_t last_column = poly.max_x - poly.min_x;
   const int s = poly.min_x & 7;  // the box's first column within its block
   const int y0 = poly.min_y & 7;  // the box's first row within its block
   // A row's span placed at its column in the blocks it reaches (row y of the box).
-  auto place = [&](int y, int32_t first, int32_t last) {
+  auto place = [&cover, s, y0](int y, int32_t first, int32_t last) {
+    if (kByteRows) return place_bytes(cover[(y + y0) >> 3], (y + y0) & 7, first + s, last + s);
     const typename Grid::Placed row(span_bits<typename Grid::Word>(first, last), s);
     const int j = (y + y0) >> 3, shift = ((y + y0) & 7) * 8;
     for (int i = (first + s) >> 3; i <= (last + s) >> 3; ++i) cover[j][i] |= uint64_t(row.byte(i)) << shift;
@@ -711,11 +851,25 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
   rows.each_row(poly.max_y - poly.min_y + 1, last_column, place);
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i)
-      if (cover[j][i] != 0 && !cover_block(cx0 + i, cy0 + j, cover[j][i] & ~done[j][i], writer)) {
+      if (cover[j][i] != 0 && !cover_block(cx0 + i, cy0 + j, cover[j][i] & ~done(cx0 + i, cy0 + j), writer)) {
         *result = TileResult::Failed;
         return true;
       }
   return true;
+}
+
+// Samples already covered in finest block (bx, by): all of them when an ancestor is covered. Blocks share
+// their parent's ancestors (a small polygon's box has at most 3 x 3 parents): those are looked up once a
+// parent, as the parent's covered blocks, kept in *parent. Out of line and small on the boards, as is
+// covered_above: tile_small asks it at two places (the Cortex-M0+ image's flash).
+ML_BOARD_NOINLINE ML_BOARD_SIZE inline uint64_t HierTiler::block_done(int bx, int by, ParentCover* parent) const {
+  if ((bx >> 3) != parent->x || (by >> 3) != parent->y) {
+    const int f = pyr_->layout.finest();
+    parent->x = bx >> 3;
+    parent->y = by >> 3;
+    parent->c = covered_above(f - 1, parent->x, parent->y) ? kAll : pyr_->mask(f - 1, parent->x, parent->y).c;
+  }
+  return (parent->c >> ((by & 7) * 8 + (bx & 7))) & 1 ? kAll : pyr_->block(bx, by);
 }
 
 // Covers samples w (none of them covered yet) of finest block (bx, by), which the polygon reached, and
@@ -736,12 +890,9 @@ inline bool HierTiler::cover_block(int bx, int by, uint64_t w, CoverageWriter& w
 
 // tile_small for a box inside one finest block: one mask, no arrays.
 bool HierTiler::tile_in_block(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result) {
-  const int f = pyr_->layout.finest();
   const int bx = poly.min_x >> 3, by = poly.min_y >> 3;
-  const uint64_t done = covered_above(f - 1, bx >> 3, by >> 3) ||
-                                ((pyr_->mask(f - 1, bx >> 3, by >> 3).c >> ((by & 7) * 8 + (bx & 7))) & 1)
-                            ? kAll
-                            : pyr_->block(bx, by);
+  ParentCover local;
+  const uint64_t done = block_done(bx, by, kKeptParent ? kept_parent() : &local);
   *result = TileResult::Hidden;
   if ((range_mask(poly.min_x & 7, poly.max_x & 7, poly.min_y & 7, poly.max_y & 7) & ~done) == 0) return true;
   RowSpans rows;
@@ -751,7 +902,11 @@ bool HierTiler::tile_in_block(const ConvexPoly& poly, CoverageWriter& writer, Ti
   if (setup == SmallSetup::Outside) return true;
   const int s = poly.min_x & 7, y0 = poly.min_y & 7;
   uint64_t cover = 0;
-  auto place = [&](int y, int32_t first, int32_t last) {
+  auto place = [&cover, s, y0](int y, int32_t first, int32_t last) {
+    if (kByteRows) {
+      reinterpret_cast<uint8_t*>(&cover)[y + y0] = uint8_t(kFrom[first + s] & kTo[last + s]);
+      return;
+    }
     cover |= uint64_t(span_bits<uint32_t>(first, last) << s) << ((y + y0) * 8);
   };
   rows.each_row(poly.max_y - poly.min_y + 1, poly.max_x - poly.min_x, place);
@@ -790,6 +945,7 @@ TileResult HierTiler::tile(const ConvexPoly& poly, CoverageWriter& writer) {
   int level, mx, my;
   if (!start_cell(poly, &level, &mx, &my)) return TileResult::Hidden;
   if (kWitness) forget_witness();
+  if (kKeptParent) forget_parent();  // the descent changes triage masks
   Edges edges;
   edges_at_cell(poly, level, mx, my, &edges);
   const bool ok = tile_cell(level, mx, my, edges, writer);
@@ -856,6 +1012,7 @@ bool HierTiler::background_cell(int level, int mx, int my, CoverageWriter& write
 
 bool HierTiler::background(CoverageWriter& writer) {
   if (kWitness) forget_witness();
+  if (kKeptParent) forget_parent();
   return background_cell(0, 0, 0, writer);
 }
 

@@ -153,7 +153,33 @@ class BoxWitness<true> {
   mutable int32_t wx0_ = 1, wy0_ = 0, wx1_ = 0, wy1_ = 0;
 };
 
-class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)> {
+// The covered blocks of finest-level parent (x, y), or all of them when an ancestor is covered
+// (HierTiler::block_done); x = -1: none.
+struct ParentCover {
+  int x = -1, y = -1;
+  uint64_t c = 0;
+};
+
+// The last ParentCover a small polygon looked up, kept for the next until a triage mask changes (the
+// neighbouring triangles the BSP hands over one after another share parents). 64-bit hosts only: an
+// empty base on the boards, as BoxWitness.
+template <bool kKept>
+class KeptParent {
+ protected:
+  ParentCover* kept_parent() { return nullptr; }
+  void forget_parent() {}
+};
+template <>
+class KeptParent<true> {
+ protected:
+  ParentCover* kept_parent() { return &parent_; }
+  void forget_parent() { parent_.x = -1; }
+
+ private:
+  ParentCover parent_;
+};
+
+class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)>, private KeptParent<(UINTPTR_MAX > 0xFFFFFFFFu)> {
  public:
   // pitch: subpixels per sample (256 / samples a pixel per axis). work: optional work image (pixels,
   // the screen's size); the pyramid's row 0 is the top of its row work_row0 (the band's top row).
@@ -218,6 +244,7 @@ class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)> {
   bool tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result);
   bool tile_in_block(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result);
   bool cover_block(int bx, int by, uint64_t w, CoverageWriter& writer);
+  uint64_t block_done(int bx, int by, ParentCover* parent) const;
   bool covered_above(int level, int mx, int my) const;
   bool query_cell(int level, int mx, int my, const Edges& in) const;
   bool background_cell(int level, int mx, int my, CoverageWriter& writer);

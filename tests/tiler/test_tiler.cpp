@@ -188,10 +188,15 @@ TEST(TilerTile, IntersectedTrianglesOfEverySizeEqualBruteForce) {
     tiler.init(&op.pyramid, pitch, nullptr);
     RecordingWriter rec(w, h);
     std::vector<int> expect(size_t(w) * size_t(h), -1);
-    int wide = 0, one_block = 0;  // polygons whose box is 57 to 120 samples a side, or inside one block
+    // Polygons whose box is 57 to 248 samples a side (the wide rows on 64-bit hosts), inside one block,
+    // or wider (the descent).
+    int wide = 0, one_block = 0, beyond = 0;
     for (int i = 0; i < 600; ++i) {
-      // Boxes inside one block, up to 56 samples, 57 to 120, and up to about 140 samples.
-      const int span = std::max(1, (i % 4 == 0 ? 1 + int(rng() % 4) : 10 + int(rng() % 60)) / factor);
+      // Boxes inside one block, up to 56 samples, 57 to about 140, and a few up to the screen's width.
+      const int span = std::max(1, (i % 4 == 0   ? 1 + int(rng() % 4)
+                                    : i % 16 == 1 ? 150 + int(rng() % 200)
+                                                  : 10 + int(rng() % 60)) /
+                                       factor);
       ml::ScreenTriangle a, b;
       if (!tiler_test::random_triangle(rng, pw, ph, span, &a)) continue;
       b = a;  // the second triangle near the first: their intersection is mostly not empty
@@ -215,7 +220,8 @@ TEST(TilerTile, IntersectedTrianglesOfEverySizeEqualBruteForce) {
       poly.max_x = std::min(pa.max_x, pb.max_x);
       poly.max_y = std::min(pa.max_y, pb.max_y);
       const int side = std::max(poly.max_x - poly.min_x, poly.max_y - poly.min_y) + 1;
-      wide += side > 56 && side <= 120;
+      wide += side > 56 && side <= 248;
+      beyond += side > 248;
       one_block += (poly.min_x ^ poly.max_x) < 8 && (poly.min_y ^ poly.max_y) < 8;
       rec.current = i;
       ASSERT_NE(tiler.tile(poly, rec), ml::TileResult::Failed);
@@ -226,7 +232,8 @@ TEST(TilerTile, IntersectedTrianglesOfEverySizeEqualBruteForce) {
               ml::covers_point(sb, int64_t(x) * pitch + pitch / 2, int64_t(y) * pitch + pitch / 2))
             expect[size_t(y) * size_t(w) + size_t(x)] = i;
     }
-    EXPECT_GT(wide, 40) << factor;  // the 128-bit rows are reached
+    EXPECT_GT(wide, 40) << factor;  // the wide rows are reached
+    EXPECT_GT(beyond, 3) << factor;  // and the descent past them
     EXPECT_GT(one_block, 20) << factor;
     ASSERT_FALSE(rec.out_of_bounds);
     for (size_t p = 0; p < expect.size(); ++p) {
