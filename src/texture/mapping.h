@@ -318,5 +318,12 @@ class BatchTextures {
 // viewed: the whole triangle's view_triangle when the caller has it (else it is made here).
 void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, uint32_t texture, int32_t den,
                              int32_t ox, int32_t oy, TexturePlanes* out, const ViewTriangle* viewed = nullptr);
+#if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
+// triangle_texture_planes from the triangle's view (view_triangle) and TEXCOORD_0, drawn with texture t.
+// On 64-bit hosts a small triangle's planes and box sums are made in one (the same values as
+// make_texture_planes and make_box_sums: tests/texture/mapping_test.cpp).
+void view_texture_planes(const View& view, const ViewTriangle& viewed, const int32_t uv[3][2], const TextureTexels& t,
+                         int32_t den, int32_t ox, int32_t oy, TexturePlanes* out);
+#endif
 
 }  // namespace ml

@@ -346,6 +346,88 @@ TEST(TextureMapping, SmallTrianglesBoxSumsStayWithinAUnitOfTheExactDivision) {
   EXPECT_LT(off_by_one, samples / 20);  // mostly the same floor as the exact division
 }
 
+// view_texture_planes (triangle_texture_planes) makes a small triangle's planes and box sums in one
+// on 64-bit hosts: the same sums, box and fields a boxed triangle reads as make_texture_planes and
+// make_box_sums give, and the same planes for the other triangles (larger, clipped, or left divided),
+// on the renderers' lattices (pixel centres, and the supersampled scanline renderer's), for random
+// small and larger triangles near and far from the eye.
+#if UINTPTR_MAX > 0xFFFFFFFFu
+TEST(TextureMapping, SmallTrianglesSetUpInOneGiveTheSumsOfThePlanes) {
+  std::mt19937 rng(20261204);
+  struct Lat {
+    int32_t den, ox, oy;
+  };
+  const Lat lattices[] = {{1, ml::kSubpixelHalf, ml::kSubpixelHalf}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {7, 0, 0}};
+  size_t boxed = 0, divided = 0, large = 0;
+  for (int n = 0; n < 20000; ++n) {
+    Case c = random_case(rng);
+    // Coordinates of every magnitude the views take (|world - eye| < 2^25).
+    const int scale = int(rng() % 10);
+    for (ml::Vec3i& v : c.world) v = ml::Vec3i{v.x * (1 << scale), v.y * (1 << scale), v.z * (1 << scale)};
+    int32_t box[4];
+    if (n % 4 != 0) shrink_to_small(&c, rng, int32_t(1 + rng() % (4 * 65536)), box);
+    const Lat& lat = lattices[n % 5];
+    ml::TextureTexels t{};
+    t.width = uint16_t(c.width);
+    t.height = uint16_t(c.height);
+    t.filter = uint8_t(c.error_bits == ml::kTextureAffineErrorBitsBilinear ? ml::TextureFilter::Bilinear
+                                                                           : ml::TextureFilter::Nearest);
+    ml::ViewTriangle viewed;
+    ml::view_triangle(c.view, c.world, &viewed);
+    ml::TexturePlanes got, want;
+    ml::view_texture_planes(c.view, viewed, c.uv, t, lat.den, lat.ox, lat.oy, &got);
+    ml::make_texture_planes(c.view, c.world, c.uv, lat.den, lat.ox, lat.oy, c.width, c.height, c.error_bits, &want);
+    if (viewed.unclipped) {
+      int32_t sx[3], sy[3];
+      ml::unclipped_positions(c.view, viewed, sx, sy);
+      const int64_t lo_x = *std::min_element(sx, sx + 3), hi_x = *std::max_element(sx, sx + 3);
+      const int64_t lo_y = *std::min_element(sy, sy + 3), hi_y = *std::max_element(sy, sy + 3);
+      const int64_t x0 = (lo_x * lat.den - lat.ox + 255) >> 8, x1 = (hi_x * lat.den - lat.ox) >> 8;
+      const int64_t y0 = (lo_y * lat.den - lat.oy + 255) >> 8, y1 = (hi_y * lat.den - lat.oy) >> 8;
+      want.exact = x1 - x0 < ml::kTextureExactSide && y1 - y0 < ml::kTextureExactSide;
+      if (want.exact) ml::make_box_sums(&want, int32_t(x0), int32_t(y0), int32_t(x1), int32_t(y1));
+    }
+    ASSERT_EQ(got.exact, want.exact) << "case " << n;
+    ASSERT_EQ(got.boxed, want.boxed) << "case " << n;
+    ASSERT_EQ(got.size_bits[0], want.size_bits[0]) << "case " << n;
+    ASSERT_EQ(got.size_bits[1], want.size_bits[1]) << "case " << n;
+    ASSERT_EQ(got.error_bits, want.error_bits) << "case " << n;
+    ASSERT_EQ(got.rows, nullptr) << "case " << n;
+    ASSERT_EQ(got.row_mask, 0u) << "case " << n;
+    ASSERT_EQ(got.piece.y, -1) << "case " << n;
+    if (got.boxed) {
+      ++boxed;
+      const ml::BoxSums &g = got.sums, &w = want.sums;
+      ASSERT_EQ(g.x, w.x) << "case " << n;
+      ASSERT_EQ(g.y, w.y) << "case " << n;
+      ASSERT_EQ(g.w, w.w) << "case " << n;
+      ASSERT_EQ(g.h, w.h) << "case " << n;
+      for (int k = 0; k < 3; ++k) {
+        ASSERT_EQ(g.at[k], w.at[k]) << "case " << n << " sum " << k;
+        ASSERT_EQ(g.dx[k], w.dx[k]) << "case " << n << " sum " << k;
+        ASSERT_EQ(g.dy[k], w.dy[k]) << "case " << n << " sum " << k;
+      }
+      continue;
+    }
+    (got.exact ? divided : large) += 1;
+    ASSERT_EQ(got.whole_denom, want.whole_denom) << "case " << n;
+    for (int i = 0; i < 3; ++i) {
+      ASSERT_EQ(got.a[i], want.a[i]) << "case " << n;
+      ASSERT_EQ(got.b[i], want.b[i]) << "case " << n;
+      ASSERT_EQ(got.k[i], want.k[i]) << "case " << n;
+      ASSERT_EQ(got.uv[i][0], want.uv[i][0]) << "case " << n;
+      ASSERT_EQ(got.uv[i][1], want.uv[i][1]) << "case " << n;
+    }
+    if (!got.exact) {
+      ASSERT_EQ(got.one.y, -1) << "case " << n;
+    }
+  }
+  EXPECT_GT(boxed, 5000u);
+  EXPECT_GT(large, 2000u);
+  EXPECT_GT(divided, 10u);
+}
+#endif
+
 // make_box_sums over random planes of every magnitude (as ExactDivisionIsTheFlooredQuotient's) and
 // random boxes: when it boxes them, the sum of e_i is positive over the box and BoxSteps gives the
 // floored quotients of the sums, clamped to int32, at every sample (no overflow: the sanitizers).
