@@ -363,34 +363,45 @@ ML_HOST_INLINE inline bool boxed_planes(const View& view, const Vec3i viewed[3],
 
 namespace {
 
+// Whether an unclipped triangle is small (its lattice box narrower and lower than kTextureExactSide
+// samples), its box's first and last samples into box: the lattice rows and columns of samples within
+// the projected vertices' box (the positions unclipped_positions gives; sample X lies at subpixel
+// (256 X + ox) / den).
+ML_HOST_INLINE inline bool small_box(const View& view, const ViewTriangle& viewed, int32_t den, int32_t ox, int32_t oy,
+                                     intptr_t& bx0, intptr_t& by0, intptr_t& bx1, intptr_t& by1) {
+  int32_t sx[3], sy[3];
+  unclipped_positions(view, viewed, sx, sy);
+  const int64_t lo_x = min_of(sx[0], min_of(sx[1], sx[2])), hi_x = max_of(sx[0], max_of(sx[1], sx[2]));
+  const int64_t lo_y = min_of(sy[0], min_of(sy[1], sy[2])), hi_y = max_of(sy[0], max_of(sy[1], sy[2]));
+  const int64_t x0 = floor_shift(lo_x * den - ox + kSubpixelOne - 1, kSubpixelBits);
+  const int64_t x1 = floor_shift(hi_x * den - ox, kSubpixelBits);
+  const int64_t y0 = floor_shift(lo_y * den - oy + kSubpixelOne - 1, kSubpixelBits);
+  const int64_t y1 = floor_shift(hi_y * den - oy, kSubpixelBits);
+  bx0 = intptr_t(x0), by0 = intptr_t(y0), bx1 = intptr_t(x1), by1 = intptr_t(y1);  // (within int32)
+  return x1 - x0 < kTextureExactSide && y1 - y0 < kTextureExactSide;
+}
+
 // triangle_texture_planes once the triangle's view and coordinates are at hand.
-ML_HOST_INLINE inline void planes_of_view(const View& view, const ViewTriangle& viewed, const int32_t uv[3][2], const TextureTexels& t,
-                           int32_t den, int32_t ox, int32_t oy, TexturePlanes* out) {
+ML_HOST_INLINE inline void planes_of_view(const View& view, const ViewTriangle& viewed, const int32_t uv[3][2],
+                                          const TextureTexels& t, int32_t den, int32_t ox, int32_t oy,
+                                          TexturePlanes* out) {
   const int error_bits = t.filter == uint8_t(TextureFilter::Bilinear) ? kTextureAffineErrorBitsBilinear
                                                                       : kTextureAffineErrorBitsNearest;
-  bool exact = false;
-  int64_t x0 = 0, x1 = 0, y0 = 0, y1 = 0;
-  if (viewed.unclipped) {
-    // The lattice rows and columns of samples within the projected vertices' box (the positions
-    // unclipped_positions gives): sample X lies at subpixel (256 X + ox) / den.
-    int32_t sx[3], sy[3];
-    unclipped_positions(view, viewed, sx, sy);
-    const int64_t lo_x = min_of(sx[0], min_of(sx[1], sx[2])), hi_x = max_of(sx[0], max_of(sx[1], sx[2]));
-    const int64_t lo_y = min_of(sy[0], min_of(sy[1], sy[2])), hi_y = max_of(sy[0], max_of(sy[1], sy[2]));
-    x0 = floor_shift(lo_x * den - ox + kSubpixelOne - 1, kSubpixelBits);
-    x1 = floor_shift(hi_x * den - ox, kSubpixelBits);
-    y0 = floor_shift(lo_y * den - oy + kSubpixelOne - 1, kSubpixelBits);
-    y1 = floor_shift(hi_y * den - oy, kSubpixelBits);
-    exact = x1 - x0 < kTextureExactSide && y1 - y0 < kTextureExactSide;
-  }
+  intptr_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 #if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
+  // The box first: a small triangle's planes and sums in one.
+  const bool exact = viewed.unclipped && small_box(view, viewed, den, ox, oy, x0, y0, x1, y1);
   if (exact && boxed_planes(view, viewed.p, uv, den, ox, oy, t.width, t.height, error_bits, int32_t(x0), int32_t(y0),
                             int32_t(x1), int32_t(y1), out))
     return;
-#endif
   planes_from_view(view, viewed.p, uv, den, ox, oy, t.width, t.height, error_bits, out);
   out->exact = exact;
-  if (exact) make_box_sums(out, int32_t(x0), int32_t(y0), int32_t(x1), int32_t(y1));
+#else
+  planes_from_view(view, viewed.p, uv, den, ox, oy, t.width, t.height, error_bits, out);
+  if (!viewed.unclipped) return;
+  out->exact = small_box(view, viewed, den, ox, oy, x0, y0, x1, y1);
+#endif
+  if (out->exact) make_box_sums(out, int32_t(x0), int32_t(y0), int32_t(x1), int32_t(y1));
 }
 
 }  // namespace
