@@ -700,4 +700,68 @@ TEST(TextureMapping, BlocksOfRowsGiveTheColoursSampleBySample) {
   EXPECT_GT(boxed, 2u);
 }
 
+// A row's spans of small triangles sampled in one call (sample_spans, the scanline renderer's row of
+// small triangles: each span with its own planes and colour) give the colours sample by sample: every
+// format and wrap, both filters, boxed and divided triangles, grey colours (white, black, any grey:
+// one product for the three channels) and others, through the white table (and its lanes on 64-bit
+// hosts, as the renderer takes them).
+TEST(TextureMapping, SpansOfSmallTrianglesGiveTheColoursSampleBySample) {
+  std::mt19937 rng(19);
+  const ml::TexelFormat formats[] = {ml::TexelFormat::Rgb565, ml::TexelFormat::Palette8, ml::TexelFormat::Grey4};
+  size_t compared = 0, boxed = 0, grey = 0;
+  for (int n = 0; n < 120; ++n) {
+    const Case base = random_case(rng);
+    RandomTexture tex(rng, formats[n % 3], base.width, base.height);
+    if (n % 2) tex.t.wrap_s = tex.t.wrap_t = uint8_t(ml::TextureWrap::Repeat);
+    tex.t.filter = uint8_t(n % 5 == 4 ? ml::TextureFilter::Nearest : ml::TextureFilter::Bilinear);
+    std::vector<ml::Pixel> white(ml::kTexelLutEntries);
+    ml::make_texel_lut(tex.t, tex.bytes.data(), 0xFFFFFF, white.data());
+    std::vector<uint64_t> lanes(ml::kTexelLutEntries);
+    ml::spread_texel_lut(tex.t, white.data(), lanes.data());
+    // Triangles of this texture, each small (divided, or boxed over the screen), with its colour.
+    std::vector<ml::TexturePlanes> planes(6);
+    std::vector<ml::Pixel> colours(planes.size());
+    for (size_t i = 0; i < planes.size(); ++i) {
+      Case c = random_case(rng);
+      c.width = base.width, c.height = base.height;
+      planes[i] = planes_for(c, tex.t);
+      planes[i].exact = true;
+      if (rng() % 4 != 0) boxed += box_over_screen(&planes[i]);
+      const uint32_t g = rng() % 256;
+      const int kind = int(rng() % 4);
+      colours[i] = kind == 0 ? 0xFFFFFF : kind == 1 ? 0 : kind == 2 ? g * 0x010101u : ml::Pixel(rng() & 0xFFFFFF);
+      grey += kind != 3;
+    }
+    for (int k = 0; k < 30; ++k) {
+      const int32_t y = int32_t(rng() % 240);
+      std::vector<ml::SmallSpan> spans;
+      for (int32_t x = int32_t(rng() % 8); x < 320; x += 1 + int32_t(rng() % 6)) {
+        const int32_t len = std::min<int32_t>(320 - x, 1 + int32_t(rng() % 6));
+        const size_t i = rng() % planes.size();
+        spans.push_back(ml::SmallSpan{&planes[i], colours[i], x, len});
+        x += len;
+      }
+      std::vector<ml::Pixel> row(320, 0x12345678u);
+      const ml::TextureSampling sampling =
+          ml::texture_sampling(*spans[0].planes, tex.t, tex.bytes.data(), white.data(), 0xFFFFFF, spans[0].colour,
+                               lanes.data());
+      ml::sample_spans(sampling, spans.data(), uint32_t(spans.size()), y, row.data());
+      for (const ml::SmallSpan& sp : spans)
+        for (int32_t j = 0; j < sp.n; ++j) {
+          int32_t uv[2];
+          ml::TexturePlanes one = *sp.planes;
+          ml::texture_uv(one, sp.x + j, y, uv);
+          ASSERT_EQ(row[size_t(sp.x + j)], ml::sample_texture(tex.t, tex.bytes.data(), uv, sp.colour, true))
+              << "case " << n << " sample " << sp.x + j << "," << y << " format " << int(tex.t.format) << " filter "
+              << int(tex.t.filter) << " wraps " << int(tex.t.wrap_s) << int(tex.t.wrap_t) << " colour " << std::hex
+              << sp.colour << (sp.planes->boxed ? " boxed" : " divided");
+          ++compared;
+        }
+    }
+  }
+  EXPECT_GT(compared, 100000u);
+  EXPECT_GT(boxed, 100u);
+  EXPECT_GT(grey, 300u);
+}
+
 }  // namespace
