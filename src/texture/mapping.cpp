@@ -129,6 +129,25 @@ void planes_from_view(const View& view, const Vec3i viewed[3], const int32_t uv[
 
 }  // namespace
 
+#if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
+namespace {
+// BoxSums::plain for sums whose least n_2 over the box is least_w (> 0): each n_k is least and
+// greatest at corners of the box (a plane), whose values are those of samples of the box (|n_k| <
+// 2^61: no overflow).
+ML_HOST_INLINE inline bool plain_quotients(const BoxSums& s, int64_t least_w) {
+  const int64_t limit = least_w * (int64_t(1) << 31);  // < 2^62
+  bool plain = true;
+  ML_HOST_UNROLL for (int k = 0; k < 2; ++k) {
+    const int64_t across = s.dx[k] * s.w, down = s.dy[k] * s.h;
+    const int64_t least = s.at[k] + min_of(int64_t(0), across) + min_of(int64_t(0), down);
+    const int64_t most = s.at[k] + max_of(int64_t(0), across) + max_of(int64_t(0), down);
+    plain = plain && least >= 0 && most < limit;
+  }
+  return plain;
+}
+}  // namespace
+#endif
+
 // The e_i over the box, scaled once (mapping.h): |e_i| is at most its value at (x0, y0) plus the
 // steps to the far corner; the scale keeps that below 2^kTextureWeightBits, and the coefficients,
 // rounded, add at most (1 + 33 + 33) / 2 units (boxes of at most 33 samples a side, with the one
@@ -160,8 +179,12 @@ void make_box_sums(TexturePlanes* p, int32_t x0, int32_t y0, int32_t x1, int32_t
       to[j][c] = sign * n;
     }
   // The sum of e_i stays above 0 over the box: a plane, least at a corner.
-  if (sums.at[2] + min_of(int64_t(0), sums.dx[2] * w) + min_of(int64_t(0), sums.dy[2] * h) <= 0) return;
+  const int64_t least_w = sums.at[2] + min_of(int64_t(0), sums.dx[2] * w) + min_of(int64_t(0), sums.dy[2] * h);
+  if (least_w <= 0) return;
   sums.x = x0, sums.y = y0, sums.w = int32_t(w), sums.h = int32_t(h);
+#if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
+  sums.plain = plain_quotients(sums, least_w);
+#endif
   p->boxed = true;
 }
 
@@ -335,7 +358,8 @@ ML_HOST_INLINE inline bool boxed_planes(const View& view, const Vec3i viewed[3],
   int64_t tx = sa[0] + sa[1] + sa[2], ty = sb[0] + sb[1] + sb[2];
   const bool negative = total < 0;  // the sum made positive
   if (negative) total = -total, tx = -tx, ty = -ty;
-  if (total + min_of(int64_t(0), tx * w) + min_of(int64_t(0), ty * h) <= 0) return false;
+  const int64_t least_w = total + min_of(int64_t(0), tx * w) + min_of(int64_t(0), ty * h);
+  if (least_w <= 0) return false;
   BoxSums& sums = out->sums;
   ML_HOST_UNROLL for (int q = 0; q < 2; ++q) {
     const int64_t u0 = uv[0][q], u1 = uv[1][q], u2 = uv[2][q];
@@ -348,6 +372,7 @@ ML_HOST_INLINE inline bool boxed_planes(const View& view, const Vec3i viewed[3],
   }
   sums.at[2] = total, sums.dx[2] = tx, sums.dy[2] = ty;
   sums.x = int32_t(bx), sums.y = int32_t(by), sums.w = int32_t(w), sums.h = int32_t(h);
+  sums.plain = plain_quotients(sums, least_w);
   out->size_bits[0] = log2_of(max_of(width, 1u));
   out->size_bits[1] = log2_of(max_of(height, 1u));
   out->error_bits = error_bits;

@@ -669,7 +669,14 @@ struct MaskRuns {
 template <typename Body>
 ML_RUN_HELPER void with_steps(const TexturePlanes& p, Body body) {
   if (p.boxed) {
-    BoxSteps steps(p);
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    if (p.sums.plain) {
+      BoxSteps<true> steps(p);
+      body(steps);
+      return;
+    }
+#endif
+    BoxSteps<> steps(p);
     body(steps);
   } else {
     ExactSteps steps(p);
@@ -1011,15 +1018,24 @@ __attribute__((always_inline)) inline void lanes_spans_as(const TextureTexels& t
     int64_t n2 = s.at[2] + s.dx[2] * dx + s.dy[2] * dy;
     Pixel* out = row + sp->x;
     Pixel* const stop = out + sp->n;
-    do {  // bilinear_tinted<Repeat, true>, its grey multiplier known
-      int32_t uv[2];
-      clamped_coordinates(texture_floor_quotient(n0, n2), texture_floor_quotient(n1, n2), uv);
-      n0 += s.dx[0], n1 += s.dx[1], n2 += s.dx[2];
-      const Taps k = bilinear_taps<Repeat>(t, uv[0], uv[1]);
-      const Spread top = lerp_spread(spread(fetch(k.xa, k.ya)), spread(fetch(k.xb, k.ya)), k.fx);
-      const Spread bottom = lerp_spread(spread(fetch(k.xa, k.yb)), spread(fetch(k.xb, k.yb)), k.fx);
-      *out = unspread(modulate_spread_grey(lerp_spread(top, bottom, k.fy), grey));
-    } while (++out != stop);
+    const auto samples = [&](auto plain) ML_RUN_LAMBDA {
+      do {  // bilinear_tinted<Repeat, true>, its grey multiplier known
+        int32_t uv[2];
+        if (decltype(plain)::value) {  // BoxSums::plain: the truncated quotients are the floored ones, in range
+          uv[0] = int32_t(n0 / n2);
+          uv[1] = int32_t(n1 / n2);
+        } else {
+          clamped_coordinates(texture_floor_quotient(n0, n2), texture_floor_quotient(n1, n2), uv);
+        }
+        n0 += s.dx[0], n1 += s.dx[1], n2 += s.dx[2];
+        const Taps k = bilinear_taps<Repeat>(t, uv[0], uv[1]);
+        const Spread top = lerp_spread(spread(fetch(k.xa, k.ya)), spread(fetch(k.xb, k.ya)), k.fx);
+        const Spread bottom = lerp_spread(spread(fetch(k.xa, k.yb)), spread(fetch(k.xb, k.yb)), k.fx);
+        *out = unspread(modulate_spread_grey(lerp_spread(top, bottom, k.fy), grey));
+      } while (++out != stop);
+    };
+    if (s.plain) samples(Flag<true>{});
+    else samples(Flag<false>{});
   }
 }
 // A row's small-triangle spans through one loop: what they share (the texture, its table or lanes)

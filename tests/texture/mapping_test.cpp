@@ -358,7 +358,7 @@ TEST(TextureMapping, SmallTrianglesSetUpInOneGiveTheSumsOfThePlanes) {
     int32_t den, ox, oy;
   };
   const Lat lattices[] = {{1, ml::kSubpixelHalf, ml::kSubpixelHalf}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {7, 0, 0}};
-  size_t boxed = 0, divided = 0, large = 0;
+  size_t boxed = 0, divided = 0, large = 0, plain = 0;
   for (int n = 0; n < 20000; ++n) {
     Case c = random_case(rng);
     // Coordinates of every magnitude the views take (|world - eye| < 2^25).
@@ -402,6 +402,8 @@ TEST(TextureMapping, SmallTrianglesSetUpInOneGiveTheSumsOfThePlanes) {
       ASSERT_EQ(g.y, w.y) << "case " << n;
       ASSERT_EQ(g.w, w.w) << "case " << n;
       ASSERT_EQ(g.h, w.h) << "case " << n;
+      ASSERT_EQ(g.plain, w.plain) << "case " << n;
+      plain += g.plain;
       for (int k = 0; k < 3; ++k) {
         ASSERT_EQ(g.at[k], w.at[k]) << "case " << n << " sum " << k;
         ASSERT_EQ(g.dx[k], w.dx[k]) << "case " << n << " sum " << k;
@@ -425,25 +427,29 @@ TEST(TextureMapping, SmallTrianglesSetUpInOneGiveTheSumsOfThePlanes) {
   EXPECT_GT(boxed, 5000u);
   EXPECT_GT(large, 2000u);
   EXPECT_GT(divided, 10u);
+  EXPECT_GT(plain, 100u);
 }
 #endif
 
 // make_box_sums over random planes of every magnitude (as ExactDivisionIsTheFlooredQuotient's) and
 // random boxes: when it boxes them, the sum of e_i is positive over the box and BoxSteps gives the
-// floored quotients of the sums, clamped to int32, at every sample (no overflow: the sanitizers).
+// floored quotients of the sums, clamped to int32, at every sample (no overflow: the sanitizers); on
+// 64-bit hosts, sums it finds plain (BoxSums::plain) have 0 <= n_k < 2^31 n_2 at every sample, and
+// BoxSteps<true>'s truncated quotients are the same.
 TEST(TextureMapping, BoxSumsOfAnyPlanesStayPositiveAndInRange) {
   std::mt19937_64 rng(20261203);
   const auto any = [&](int bits) {
     return bits == 0 ? 0 : int64_t(rng() >> (64 - bits - 1)) - (int64_t(1) << bits);
   };
-  size_t boxed = 0, samples = 0;
+  size_t boxed = 0, samples = 0, plain = 0;
   for (int n = 0; n < 20000; ++n) {
     ml::TexturePlanes p{};
     for (int i = 0; i < 3; ++i) {
       p.a[i] = any(int(rng() % 46));
       p.b[i] = any(int(rng() % 46));
       p.k[i] = any(int(rng() % 60));
-      for (int k = 0; k < 2; ++k) p.uv[i][k] = int32_t(uint32_t(rng()));
+      // Coordinates of any sign, or (one case in two) of one sign: sums that may be plain.
+      for (int k = 0; k < 2; ++k) p.uv[i][k] = int32_t(uint32_t(rng()) >> (n % 2));
     }
     p.exact = true;
     const int32_t x0 = int32_t(rng() % 2048), y0 = int32_t(rng() % 2048);
@@ -452,9 +458,16 @@ TEST(TextureMapping, BoxSumsOfAnyPlanesStayPositiveAndInRange) {
     if (!p.boxed) continue;
     ++boxed;
     const ml::BoxSums& s = p.sums;
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    plain += s.plain;
+#endif
     for (int32_t y = y0 - 1; y <= y1 + 1; ++y) {
       ml::BoxSteps steps(p);
       steps.start(p, x0 - 1, y);
+#if UINTPTR_MAX > 0xFFFFFFFFu
+      ml::BoxSteps<true> plain_steps(p);
+      plain_steps.start(p, x0 - 1, y);
+#endif
       for (int32_t x = x0 - 1; x <= x1 + 1; ++x, ++samples) {
         const int64_t w = s.at[2] + s.dx[2] * (x - s.x) + s.dy[2] * (y - s.y);
         ASSERT_GT(w, 0) << "case " << n;
@@ -464,12 +477,29 @@ TEST(TextureMapping, BoxSumsOfAnyPlanesStayPositiveAndInRange) {
         for (int k = 0; k < 2; ++k) {
           const int64_t sum = s.at[k] + s.dx[k] * (x - s.x) + s.dy[k] * (y - s.y);
           ASSERT_EQ(uv[k], int32_t(std::clamp<int64_t>(ml::div_floor(sum, w), INT32_MIN, INT32_MAX))) << "case " << n;
+#if UINTPTR_MAX > 0xFFFFFFFFu
+          if (s.plain) {
+            ASSERT_GE(sum, 0) << "case " << n;
+            ASSERT_LT(ml::div_floor(sum, w), int64_t(1) << 31) << "case " << n;
+          }
+#endif
         }
+#if UINTPTR_MAX > 0xFFFFFFFFu
+        int32_t truncated[2];
+        plain_steps.next(truncated);
+        if (s.plain) {
+          ASSERT_EQ(truncated[0], uv[0]) << "case " << n;
+          ASSERT_EQ(truncated[1], uv[1]) << "case " << n;
+        }
+#endif
       }
     }
   }
   EXPECT_GT(boxed, 5000u);
   EXPECT_GT(samples, 100000u);
+#if UINTPTR_MAX > 0xFFFFFFFFu
+  EXPECT_GT(plain, 500u);
+#endif
 }
 
 // A texture of random bytes in format f (any bytes are valid: palette indices past the palette read
