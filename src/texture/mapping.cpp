@@ -394,8 +394,11 @@ namespace {
 // (256 X + ox) / den).
 ML_HOST_INLINE inline bool small_box(const View& view, const ViewTriangle& viewed, int32_t den, int32_t ox, int32_t oy,
                                      intptr_t& bx0, intptr_t& by0, intptr_t& bx1, intptr_t& by1) {
-  int32_t sx[3], sy[3];
-  unclipped_positions(view, viewed, sx, sy);
+  int32_t sx[3], sy[3];  // unclipped_positions' (its loop unrolled on 64-bit hosts)
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
+    sx[i] = int32_t(view.center_x + viewed.ox[i]);
+    sy[i] = int32_t(view.center_y + viewed.oy[i]);
+  }
   const int64_t lo_x = min_of(sx[0], min_of(sx[1], sx[2])), hi_x = max_of(sx[0], max_of(sx[1], sx[2]));
   const int64_t lo_y = min_of(sy[0], min_of(sy[1], sy[2])), hi_y = max_of(sy[0], max_of(sy[1], sy[2]));
   const int64_t x0 = floor_shift(lo_x * den - ox + kSubpixelOne - 1, kSubpixelBits);
