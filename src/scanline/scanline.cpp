@@ -1038,7 +1038,7 @@ struct Renderer {
   // no nearest-surface search, the same per-sample results as the general sweep. The common run
   // inline (one sample a pixel, an untextured piece of one colour whose colours are made); the others
   // out of line (other_run), so that the common one pays for no saved registers or stack frame.
-  void single_run(ActiveTri& a, int32_t x0, int32_t x1, int32_t y) {
+  ML_HOST_INLINE void single_run(ActiveTri& a, int32_t x0, int32_t x1, int32_t y) {
     stats->geometry_samples += uint64_t(x1 - x0 + 1);
     mark_drawn(a);
     a.z_run += a.gx * uint64_t(int64_t(x1 - x0));  // as if stepped sample by sample
@@ -1050,14 +1050,13 @@ struct Renderer {
         return;
       }
       if (s.accumulate && !varying) return single_run_constant(a, x0, x1);
+    } else if (join_small_span(a, x0, x1)) {  // a small triangle's later span: no call (texture_run)
+      return;
     }
 #endif
     other_run(a, x0, x1, y);
   }
   ML_HOST_NOINLINE void other_run(ActiveTri& a, int32_t x0, int32_t x1, int32_t y) {
-#if UINTPTR_MAX > 0xFFFFFFFFu
-    if (join_small_span(a, x0, x1)) return;
-#endif
     if (opt->shading == ShadingMode::Ids) {
       fill_pixels(keep_surface, x0, x1, a.id + 1);
       return;

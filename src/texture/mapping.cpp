@@ -129,6 +129,25 @@ void planes_from_view(const View& view, const Vec3i viewed[3], const int32_t uv[
 
 }  // namespace
 
+#if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
+namespace {
+// BoxSums::plain for sums whose least n_2 over the box is least_w (> 0): each n_k is least and
+// greatest at corners of the box (a plane), whose values are those of samples of the box (|n_k| <
+// 2^61: no overflow).
+ML_HOST_INLINE inline bool plain_quotients(const BoxSums& s, int64_t least_w) {
+  const int64_t limit = least_w * (int64_t(1) << 31);  // < 2^62
+  bool plain = true;
+  ML_HOST_UNROLL for (int k = 0; k < 2; ++k) {
+    const int64_t across = s.dx[k] * s.w, down = s.dy[k] * s.h;
+    const int64_t least = s.at[k] + min_of(int64_t(0), across) + min_of(int64_t(0), down);
+    const int64_t most = s.at[k] + max_of(int64_t(0), across) + max_of(int64_t(0), down);
+    plain = plain && least >= 0 && most < limit;
+  }
+  return plain;
+}
+}  // namespace
+#endif
+
 // The e_i over the box, scaled once (mapping.h): |e_i| is at most its value at (x0, y0) plus the
 // steps to the far corner; the scale keeps that below 2^kTextureWeightBits, and the coefficients,
 // rounded, add at most (1 + 33 + 33) / 2 units (boxes of at most 33 samples a side, with the one
@@ -169,8 +188,12 @@ void make_box_sums(TexturePlanes* p, int32_t x0, int32_t y0, int32_t x1, int32_t
     to[j][2] = int64_t(w0) + w1 + w2;
   }
   // The sum of e_i stays above 0 over the box: a plane, least at a corner.
-  if (sums.at[2] + min_of(int64_t(0), sums.dx[2] * w) + min_of(int64_t(0), sums.dy[2] * h) <= 0) return;
+  const int64_t least_w = sums.at[2] + min_of(int64_t(0), sums.dx[2] * w) + min_of(int64_t(0), sums.dy[2] * h);
+  if (least_w <= 0) return;
   sums.x = x0, sums.y = y0, sums.w = int32_t(w), sums.h = int32_t(h);
+#if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
+  sums.plain = plain_quotients(sums, least_w);
+#endif
   p->boxed = true;
 }
 
@@ -287,6 +310,146 @@ uint32_t triangle_texture(const Scene& scene, uint32_t id) {
   return material_texels(scene, m) ? m.texture : kNone;
 }
 
+#if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
+namespace {
+
+// planes_from_view and make_box_sums for a small triangle, written as one (64-bit hosts: the boards
+// keep the two for their flash): the same sums, box, size and error bits, and caches cleared as
+// planes_from_view leaves them. What a boxed triangle no longer reads is not written: its planes (a,
+// b, k), coordinates (uv) and whole_denom (as the tiler's PlaneCache keeps it). False, with nothing
+// written, when the sum of e_i changes sign or reaches 0 over the box (planes_from_view and
+// make_box_sums then leave the triangle divided).
+ML_HOST_INLINE inline bool boxed_planes(const View& view, const Vec3i viewed[3], const int32_t uv[3][2], int32_t den, int32_t ox,
+                  int32_t oy, uint32_t width, uint32_t height, int error_bits, int32_t x0, int32_t y0, int32_t x1,
+                  int32_t y1, TexturePlanes* out) {
+  const Vec3i &p0 = viewed[0], &p1 = viewed[1], &p2 = viewed[2];
+  int64_t c[3][3];  // c_i = P_j x P_k, as planes_from_view
+  c[0][0] = int64_t(p1.y) * p2.z - int64_t(p1.z) * p2.y;
+  c[0][1] = int64_t(p1.z) * p2.x - int64_t(p1.x) * p2.z;
+  c[0][2] = int64_t(p1.x) * p2.y - int64_t(p1.y) * p2.x;
+  c[1][0] = int64_t(p2.y) * p0.z - int64_t(p2.z) * p0.y;
+  c[1][1] = int64_t(p2.z) * p0.x - int64_t(p2.x) * p0.z;
+  c[1][2] = int64_t(p2.x) * p0.y - int64_t(p2.y) * p0.x;
+  c[2][0] = int64_t(p0.y) * p1.z - int64_t(p0.z) * p1.y;
+  c[2][1] = int64_t(p0.z) * p1.x - int64_t(p0.x) * p1.z;
+  c[2][2] = int64_t(p0.x) * p1.y - int64_t(p0.y) * p1.x;
+  uint64_t largest = 0;
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) largest |= magnitude(c[i][0]) | magnitude(c[i][1]) | magnitude(c[i][2]);
+  const int shift = max_of(0, bit_length(largest) - kCrossBits);
+  const int64_t dx = ox - int64_t(view.center_x) * den, dy = oy - int64_t(view.center_y) * den;
+  const int64_t fz = view.focal_q8 * den;
+  // make_box_sums: the box and a sample more each side; e_i at its first sample, a_i and b_i.
+  const int64_t bx = int64_t(x0) - 1, by = int64_t(y0) - 1;
+  const int64_t w = int64_t(x1) + 1 - bx, h = int64_t(y1) + 1 - by;
+  // e_i = a_i X + b_i Y + k_i at (bx, by), with a_i = 256 x, b_i = 256 y, k_i = x dx + y dy + z fz: the
+  // same value as x (256 bx + dx) + y (256 by + dy) + z fz (int64 arithmetic is exact modulo 2^64, and
+  // |e_i| < 2^61).
+  const int64_t ex = bx * kSubpixelOne + dx, ey = by * kSubpixelOne + dy;
+  const uint64_t sw = uint64_t(w) * kSubpixelOne, sh = uint64_t(h) * kSubpixelOne;
+  int64_t e[3], a[3], b[3];
+  uint64_t reach = 0;
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
+    const int64_t x = c[i][0] >> shift, y = c[i][1] >> shift, z = c[i][2] >> shift;
+    a[i] = x * kSubpixelOne;
+    b[i] = y * kSubpixelOne;
+    e[i] = int64_t(uint64_t(x) * uint64_t(ex) + uint64_t(y) * uint64_t(ey) + uint64_t(z) * uint64_t(fz));
+    reach |= magnitude(e[i]) + magnitude(x) * sw + magnitude(y) * sh;
+  }
+  const int s = max_of(0, bit_length(reach) - kTextureWeightBits);
+  const int64_t half = s > 0 ? int64_t(1) << (s - 1) : 0;
+  int64_t se[3], sa[3], sb[3];
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
+    se[i] = (e[i] + half) >> s;
+    sa[i] = (a[i] + half) >> s;
+    sb[i] = (b[i] + half) >> s;
+  }
+  int64_t total = se[0] + se[1] + se[2];
+  int64_t tx = sa[0] + sa[1] + sa[2], ty = sb[0] + sb[1] + sb[2];
+  const bool negative = total < 0;  // the sum made positive
+  if (negative) total = -total, tx = -tx, ty = -ty;
+  const int64_t least_w = total + min_of(int64_t(0), tx * w) + min_of(int64_t(0), ty * h);
+  if (least_w <= 0) return false;
+  BoxSums& sums = out->sums;
+  ML_HOST_UNROLL for (int q = 0; q < 2; ++q) {
+    const int64_t u0 = uv[0][q], u1 = uv[1][q], u2 = uv[2][q];
+    const int64_t at = u0 * se[0] + u1 * se[1] + u2 * se[2];
+    const int64_t sx = u0 * sa[0] + u1 * sa[1] + u2 * sa[2];
+    const int64_t sy = u0 * sb[0] + u1 * sb[1] + u2 * sb[2];
+    sums.at[q] = negative ? -at : at;
+    sums.dx[q] = negative ? -sx : sx;
+    sums.dy[q] = negative ? -sy : sy;
+  }
+  sums.at[2] = total, sums.dx[2] = tx, sums.dy[2] = ty;
+  sums.x = int32_t(bx), sums.y = int32_t(by), sums.w = int32_t(w), sums.h = int32_t(h);
+  sums.plain = plain_quotients(sums, least_w);
+  out->size_bits[0] = log2_of(max_of(width, 1u));
+  out->size_bits[1] = log2_of(max_of(height, 1u));
+  out->error_bits = error_bits;
+  out->exact = out->boxed = true;
+  out->rows = nullptr;
+  out->row_mask = 0;
+  out->piece.y = -1;
+  return true;
+}
+
+}  // namespace
+#endif
+
+namespace {
+
+// Whether an unclipped triangle is small (its lattice box narrower and lower than kTextureExactSide
+// samples), its box's first and last samples into box: the lattice rows and columns of samples within
+// the projected vertices' box (the positions unclipped_positions gives; sample X lies at subpixel
+// (256 X + ox) / den).
+ML_HOST_INLINE inline bool small_box(const View& view, const ViewTriangle& viewed, int32_t den, int32_t ox, int32_t oy,
+                                     intptr_t& bx0, intptr_t& by0, intptr_t& bx1, intptr_t& by1) {
+  int32_t sx[3], sy[3];  // unclipped_positions' (its loop unrolled on 64-bit hosts)
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
+    sx[i] = int32_t(view.center_x + viewed.ox[i]);
+    sy[i] = int32_t(view.center_y + viewed.oy[i]);
+  }
+  const int64_t lo_x = min_of(sx[0], min_of(sx[1], sx[2])), hi_x = max_of(sx[0], max_of(sx[1], sx[2]));
+  const int64_t lo_y = min_of(sy[0], min_of(sy[1], sy[2])), hi_y = max_of(sy[0], max_of(sy[1], sy[2]));
+  const int64_t x0 = floor_shift(lo_x * den - ox + kSubpixelOne - 1, kSubpixelBits);
+  const int64_t x1 = floor_shift(hi_x * den - ox, kSubpixelBits);
+  const int64_t y0 = floor_shift(lo_y * den - oy + kSubpixelOne - 1, kSubpixelBits);
+  const int64_t y1 = floor_shift(hi_y * den - oy, kSubpixelBits);
+  bx0 = intptr_t(x0), by0 = intptr_t(y0), bx1 = intptr_t(x1), by1 = intptr_t(y1);  // (within int32)
+  return x1 - x0 < kTextureExactSide && y1 - y0 < kTextureExactSide;
+}
+
+// triangle_texture_planes once the triangle's view and coordinates are at hand.
+ML_HOST_INLINE inline void planes_of_view(const View& view, const ViewTriangle& viewed, const int32_t uv[3][2],
+                                          const TextureTexels& t, int32_t den, int32_t ox, int32_t oy,
+                                          TexturePlanes* out) {
+  const int error_bits = t.filter == uint8_t(TextureFilter::Bilinear) ? kTextureAffineErrorBitsBilinear
+                                                                      : kTextureAffineErrorBitsNearest;
+  intptr_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+#if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
+  // The box first: a small triangle's planes and sums in one.
+  const bool exact = viewed.unclipped && small_box(view, viewed, den, ox, oy, x0, y0, x1, y1);
+  if (exact && boxed_planes(view, viewed.p, uv, den, ox, oy, t.width, t.height, error_bits, int32_t(x0), int32_t(y0),
+                            int32_t(x1), int32_t(y1), out))
+    return;
+  planes_from_view(view, viewed.p, uv, den, ox, oy, t.width, t.height, error_bits, out);
+  out->exact = exact;
+#else
+  planes_from_view(view, viewed.p, uv, den, ox, oy, t.width, t.height, error_bits, out);
+  if (!viewed.unclipped) return;
+  out->exact = small_box(view, viewed, den, ox, oy, x0, y0, x1, y1);
+#endif
+  if (out->exact) make_box_sums(out, int32_t(x0), int32_t(y0), int32_t(x1), int32_t(y1));
+}
+
+}  // namespace
+
+#if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
+void view_texture_planes(const View& view, const ViewTriangle& viewed, const int32_t uv[3][2], const TextureTexels& t,
+                         int32_t den, int32_t ox, int32_t oy, TexturePlanes* out) {
+  planes_of_view(view, viewed, uv, t, den, ox, oy, out);
+}
+#endif
+
 void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, uint32_t texture, int32_t den,
                              int32_t ox, int32_t oy, TexturePlanes* out, const ViewTriangle* viewed) {
   ViewTriangle own;
@@ -298,24 +461,8 @@ void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, 
   }
   const Triangle tri = triangle_at(scene, id);
   int32_t uv[3][2];
-  for (int i = 0; i < 3; ++i) vertex_uv(scene, tri.v[i], uv[i]);
-  const TextureTexels& t = scene.texture_texels[texture];
-  const int error_bits = t.filter == uint8_t(TextureFilter::Bilinear) ? kTextureAffineErrorBitsBilinear
-                                                                      : kTextureAffineErrorBitsNearest;
-  planes_from_view(view, viewed->p, uv, den, ox, oy, t.width, t.height, error_bits, out);
-  if (!viewed->unclipped) return;
-  // The lattice rows and columns of samples within the projected vertices' box (the positions
-  // unclipped_positions gives): sample X lies at subpixel (256 X + ox) / den.
-  int32_t sx[3], sy[3];
-  unclipped_positions(view, *viewed, sx, sy);
-  const int64_t lo_x = min_of(sx[0], min_of(sx[1], sx[2])), hi_x = max_of(sx[0], max_of(sx[1], sx[2]));
-  const int64_t lo_y = min_of(sy[0], min_of(sy[1], sy[2])), hi_y = max_of(sy[0], max_of(sy[1], sy[2]));
-  const int64_t x0 = floor_shift(lo_x * den - ox + kSubpixelOne - 1, kSubpixelBits);
-  const int64_t x1 = floor_shift(hi_x * den - ox, kSubpixelBits);
-  const int64_t y0 = floor_shift(lo_y * den - oy + kSubpixelOne - 1, kSubpixelBits);
-  const int64_t y1 = floor_shift(hi_y * den - oy, kSubpixelBits);
-  out->exact = x1 - x0 < kTextureExactSide && y1 - y0 < kTextureExactSide;
-  if (out->exact) make_box_sums(out, int32_t(x0), int32_t(y0), int32_t(x1), int32_t(y1));
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) vertex_uv(scene, tri.v[i], uv[i]);
+  planes_of_view(view, *viewed, uv, scene.texture_texels[texture], den, ox, oy, out);
 }
 
 }  // namespace ml

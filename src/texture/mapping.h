@@ -90,6 +90,10 @@ struct BoxSums {
   int32_t x, y;    // the box's first sample (the triangle's box and a sample more each side)
   int32_t w, h;    // its last sample: (x + w, y + h)
   int64_t at[3], dx[3], dy[3];
+  // 64-bit hosts: 0 <= n_k < 2^31 n_2 (k = 0, 1) at every sample of the box, so that the coordinates
+  // are the truncated quotients n_k / n_2 as they are (no floor step, no clamp). (Not set on the
+  // boards, which do not read it.)
+  bool plain;
 };
 
 struct TexturePlanes {
@@ -226,6 +230,8 @@ class ExactSteps {
 // ExactSteps' interface for a boxed small triangle: its sums stepped along the row, each sample's
 // coordinates their two quotients. The loops over a small triangle's samples take either; this one
 // for samples of the sums' box only (the renderers' samples of the triangle, box_uv below).
+// Plain: the sums are BoxSums::plain (64-bit hosts), each quotient the truncated one as it is.
+template <bool Plain = false>
 class BoxSteps {
  public:
   __attribute__((always_inline)) explicit BoxSteps(const TexturePlanes& p) : s_(p.sums) {}
@@ -234,8 +240,13 @@ class BoxSteps {
     ML_HOST_UNROLL for (int k = 0; k < 3; ++k) n_[k] = s_.at[k] + s_.dx[k] * dx + s_.dy[k] * dy;
   }
   __attribute__((always_inline)) void next(int32_t uv[2]) {
-    // (Clamped only outside the triangle: inside, the coordinates are means of its vertices'.)
-    clamped_coordinates(texture_floor_quotient(n_[0], n_[2]), texture_floor_quotient(n_[1], n_[2]), uv);
+    if (Plain) {
+      uv[0] = int32_t(n_[0] / n_[2]);
+      uv[1] = int32_t(n_[1] / n_[2]);
+    } else {
+      // (Clamped only outside the triangle: inside, the coordinates are means of its vertices'.)
+      clamped_coordinates(texture_floor_quotient(n_[0], n_[2]), texture_floor_quotient(n_[1], n_[2]), uv);
+    }
     ML_HOST_UNROLL for (int k = 0; k < 3; ++k) n_[k] += s_.dx[k];
   }
 
@@ -249,7 +260,7 @@ class BoxSteps {
 // triangle lie in the triangle's box; the sums' box has a sample more each side for an oversampled
 // tiler's pixel centres, whose pixels the triangle covers in part.)
 inline void box_uv(const TexturePlanes& p, int32_t x, int32_t y, int32_t uv[2]) {
-  BoxSteps steps(p);
+  BoxSteps<> steps(p);
   const BoxSums& s = p.sums;
   steps.start(p, clamp_to(x, s.x, s.x + s.w), clamp_to(y, s.y, s.y + s.h));
   steps.next(uv);
@@ -318,5 +329,12 @@ class BatchTextures {
 // viewed: the whole triangle's view_triangle when the caller has it (else it is made here).
 void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, uint32_t texture, int32_t den,
                              int32_t ox, int32_t oy, TexturePlanes* out, const ViewTriangle* viewed = nullptr);
+#if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
+// triangle_texture_planes from the triangle's view (view_triangle) and TEXCOORD_0, drawn with texture t.
+// On 64-bit hosts a small triangle's planes and box sums are made in one (the same values as
+// make_texture_planes and make_box_sums: tests/texture/mapping_test.cpp).
+void view_texture_planes(const View& view, const ViewTriangle& viewed, const int32_t uv[3][2], const TextureTexels& t,
+                         int32_t den, int32_t ox, int32_t oy, TexturePlanes* out);
+#endif
 
 }  // namespace ml

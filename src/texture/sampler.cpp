@@ -684,7 +684,14 @@ struct MaskRuns {
 template <typename Body>
 ML_RUN_HELPER void with_steps(const TexturePlanes& p, Body body) {
   if (p.boxed) {
-    BoxSteps steps(p);
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    if (p.sums.plain) {
+      BoxSteps<true> steps(p);
+      body(steps);
+      return;
+    }
+#endif
+    BoxSteps<> steps(p);
     body(steps);
   } else {
     ExactSteps steps(p);
@@ -1010,6 +1017,54 @@ template <TexelFormat F>
 void table_row(const TextureSampling& s, int32_t x, int32_t y, int32_t n, Pixel* out) {
   exact_runs<F>(*s.planes, *s.texture, s.bytes, s.lut, s.lut_colour, s.colour, RowRuns{{}, x, y, n, y + 1}, out);
 }
+// One span of lanes_spans through bilinear_runs: a small triangle left divided, or a colour not grey.
+template <TexelFormat F>
+[[gnu::noinline]] void lanes_span(const TextureTexels& t, const LutTexels<F, Spread>& fetch, bool repeat,
+                                  const SmallSpan& sp, int32_t y, Pixel* row) {
+  bilinear_runs(*sp.planes, t, fetch, tint_of(sp.colour), repeat, RowRuns{{}, sp.x, y, sp.n, y + 1}, row + sp.x);
+}
+// lanes_spans for one wrap (Repeat: both axes repeat). A boxed span of a grey colour (white light on a
+// white base colour, the common case) takes the loop written out here, BoxSteps' coordinates and
+// bilinear_tinted's colours sample by sample (the same values as bilinear_runs); the others
+// lanes_span, out of this loop's registers.
+template <TexelFormat F, bool Repeat>
+__attribute__((always_inline)) inline void lanes_spans_as(const TextureTexels& t, const LutTexels<F, Spread>& fetch,
+                                                          const SmallSpan* sp, const SmallSpan* end, int32_t y,
+                                                          Pixel* row) {
+  for (; sp != end; ++sp) {
+    const TexturePlanes& p = *sp->planes;
+    const Pixel c = sp->colour;
+    const uint32_t grey = c & 0xFF;
+    if (!p.boxed || grey == 0 || c != grey * 0x010101u || sp->n <= 0) {  // as bilinear_runs' grey_of
+      lanes_span<F>(t, fetch, Repeat, *sp, y, row);
+      continue;
+    }
+    const BoxSums& s = p.sums;
+    const int64_t dx = sp->x - s.x, dy = y - s.y;
+    int64_t n0 = s.at[0] + s.dx[0] * dx + s.dy[0] * dy, n1 = s.at[1] + s.dx[1] * dx + s.dy[1] * dy;
+    int64_t n2 = s.at[2] + s.dx[2] * dx + s.dy[2] * dy;
+    Pixel* out = row + sp->x;
+    Pixel* const stop = out + sp->n;
+    const auto samples = [&](auto plain) ML_RUN_LAMBDA {
+      do {  // bilinear_tinted<Repeat, true>, its grey multiplier known
+        int32_t uv[2];
+        if (decltype(plain)::value) {  // BoxSums::plain: the truncated quotients are the floored ones, in range
+          uv[0] = int32_t(n0 / n2);
+          uv[1] = int32_t(n1 / n2);
+        } else {
+          clamped_coordinates(texture_floor_quotient(n0, n2), texture_floor_quotient(n1, n2), uv);
+        }
+        n0 += s.dx[0], n1 += s.dx[1], n2 += s.dx[2];
+        const Taps k = bilinear_taps<Repeat>(t, uv[0], uv[1]);
+        const Spread top = lerp_spread(spread(fetch(k.xa, k.ya)), spread(fetch(k.xb, k.ya)), k.fx);
+        const Spread bottom = lerp_spread(spread(fetch(k.xa, k.yb)), spread(fetch(k.xb, k.yb)), k.fx);
+        *out = unspread(modulate_spread_grey(lerp_spread(top, bottom, k.fy), grey));
+      } while (++out != stop);
+    };
+    if (s.plain) samples(Flag<true>{});
+    else samples(Flag<false>{});
+  }
+}
 // A row's small-triangle spans through one loop: what they share (the texture, its table or lanes)
 // looked at once.
 template <TexelFormat F>
@@ -1017,8 +1072,8 @@ void lanes_spans(const TextureSampling& s, const SmallSpan* spans, uint32_t coun
   const TextureTexels& t = *s.texture;
   const LutTexels<F, Spread> fetch(t, s.bytes, s.lanes);
   const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
-  for (const SmallSpan *sp = spans, *end = spans + count; sp != end; ++sp)
-    bilinear_runs(*sp->planes, t, fetch, tint_of(sp->colour), repeat, RowRuns{{}, sp->x, y, sp->n, y + 1}, row + sp->x);
+  if (repeat) lanes_spans_as<F, true>(t, fetch, spans, spans + count, y, row);
+  else lanes_spans_as<F, false>(t, fetch, spans, spans + count, y, row);
 }
 template <TexelFormat F>
 void table_spans(const TextureSampling& s, const SmallSpan* spans, uint32_t count, int32_t y, Pixel* row) {

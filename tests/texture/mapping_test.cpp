@@ -346,22 +346,110 @@ TEST(TextureMapping, SmallTrianglesBoxSumsStayWithinAUnitOfTheExactDivision) {
   EXPECT_LT(off_by_one, samples / 20);  // mostly the same floor as the exact division
 }
 
+// view_texture_planes (triangle_texture_planes) makes a small triangle's planes and box sums in one
+// on 64-bit hosts: the same sums, box and fields a boxed triangle reads as make_texture_planes and
+// make_box_sums give, and the same planes for the other triangles (larger, clipped, or left divided),
+// on the renderers' lattices (pixel centres, and the supersampled scanline renderer's), for random
+// small and larger triangles near and far from the eye.
+#if UINTPTR_MAX > 0xFFFFFFFFu
+TEST(TextureMapping, SmallTrianglesSetUpInOneGiveTheSumsOfThePlanes) {
+  std::mt19937 rng(20261204);
+  struct Lat {
+    int32_t den, ox, oy;
+  };
+  const Lat lattices[] = {{1, ml::kSubpixelHalf, ml::kSubpixelHalf}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {7, 0, 0}};
+  size_t boxed = 0, divided = 0, large = 0, plain = 0;
+  for (int n = 0; n < 20000; ++n) {
+    Case c = random_case(rng);
+    // Coordinates of every magnitude the views take (|world - eye| < 2^25).
+    const int scale = int(rng() % 10);
+    for (ml::Vec3i& v : c.world) v = ml::Vec3i{v.x * (1 << scale), v.y * (1 << scale), v.z * (1 << scale)};
+    int32_t box[4];
+    if (n % 4 != 0) shrink_to_small(&c, rng, int32_t(1 + rng() % (4 * 65536)), box);
+    const Lat& lat = lattices[n % 5];
+    ml::TextureTexels t{};
+    t.width = uint16_t(c.width);
+    t.height = uint16_t(c.height);
+    t.filter = uint8_t(c.error_bits == ml::kTextureAffineErrorBitsBilinear ? ml::TextureFilter::Bilinear
+                                                                           : ml::TextureFilter::Nearest);
+    ml::ViewTriangle viewed;
+    ml::view_triangle(c.view, c.world, &viewed);
+    ml::TexturePlanes got, want;
+    ml::view_texture_planes(c.view, viewed, c.uv, t, lat.den, lat.ox, lat.oy, &got);
+    ml::make_texture_planes(c.view, c.world, c.uv, lat.den, lat.ox, lat.oy, c.width, c.height, c.error_bits, &want);
+    if (viewed.unclipped) {
+      int32_t sx[3], sy[3];
+      ml::unclipped_positions(c.view, viewed, sx, sy);
+      const int64_t lo_x = *std::min_element(sx, sx + 3), hi_x = *std::max_element(sx, sx + 3);
+      const int64_t lo_y = *std::min_element(sy, sy + 3), hi_y = *std::max_element(sy, sy + 3);
+      const int64_t x0 = (lo_x * lat.den - lat.ox + 255) >> 8, x1 = (hi_x * lat.den - lat.ox) >> 8;
+      const int64_t y0 = (lo_y * lat.den - lat.oy + 255) >> 8, y1 = (hi_y * lat.den - lat.oy) >> 8;
+      want.exact = x1 - x0 < ml::kTextureExactSide && y1 - y0 < ml::kTextureExactSide;
+      if (want.exact) ml::make_box_sums(&want, int32_t(x0), int32_t(y0), int32_t(x1), int32_t(y1));
+    }
+    ASSERT_EQ(got.exact, want.exact) << "case " << n;
+    ASSERT_EQ(got.boxed, want.boxed) << "case " << n;
+    ASSERT_EQ(got.size_bits[0], want.size_bits[0]) << "case " << n;
+    ASSERT_EQ(got.size_bits[1], want.size_bits[1]) << "case " << n;
+    ASSERT_EQ(got.error_bits, want.error_bits) << "case " << n;
+    ASSERT_EQ(got.rows, nullptr) << "case " << n;
+    ASSERT_EQ(got.row_mask, 0u) << "case " << n;
+    ASSERT_EQ(got.piece.y, -1) << "case " << n;
+    if (got.boxed) {
+      ++boxed;
+      const ml::BoxSums &g = got.sums, &w = want.sums;
+      ASSERT_EQ(g.x, w.x) << "case " << n;
+      ASSERT_EQ(g.y, w.y) << "case " << n;
+      ASSERT_EQ(g.w, w.w) << "case " << n;
+      ASSERT_EQ(g.h, w.h) << "case " << n;
+      ASSERT_EQ(g.plain, w.plain) << "case " << n;
+      plain += g.plain;
+      for (int k = 0; k < 3; ++k) {
+        ASSERT_EQ(g.at[k], w.at[k]) << "case " << n << " sum " << k;
+        ASSERT_EQ(g.dx[k], w.dx[k]) << "case " << n << " sum " << k;
+        ASSERT_EQ(g.dy[k], w.dy[k]) << "case " << n << " sum " << k;
+      }
+      continue;
+    }
+    (got.exact ? divided : large) += 1;
+    ASSERT_EQ(got.whole_denom, want.whole_denom) << "case " << n;
+    for (int i = 0; i < 3; ++i) {
+      ASSERT_EQ(got.a[i], want.a[i]) << "case " << n;
+      ASSERT_EQ(got.b[i], want.b[i]) << "case " << n;
+      ASSERT_EQ(got.k[i], want.k[i]) << "case " << n;
+      ASSERT_EQ(got.uv[i][0], want.uv[i][0]) << "case " << n;
+      ASSERT_EQ(got.uv[i][1], want.uv[i][1]) << "case " << n;
+    }
+    if (!got.exact) {
+      ASSERT_EQ(got.one.y, -1) << "case " << n;
+    }
+  }
+  EXPECT_GT(boxed, 5000u);
+  EXPECT_GT(large, 2000u);
+  EXPECT_GT(divided, 10u);
+  EXPECT_GT(plain, 100u);
+}
+#endif
+
 // make_box_sums over random planes of every magnitude (as ExactDivisionIsTheFlooredQuotient's) and
 // random boxes: when it boxes them, the sum of e_i is positive over the box and BoxSteps gives the
-// floored quotients of the sums, clamped to int32, at every sample (no overflow: the sanitizers).
+// floored quotients of the sums, clamped to int32, at every sample (no overflow: the sanitizers); on
+// 64-bit hosts, sums it finds plain (BoxSums::plain) have 0 <= n_k < 2^31 n_2 at every sample, and
+// BoxSteps<true>'s truncated quotients are the same.
 TEST(TextureMapping, BoxSumsOfAnyPlanesStayPositiveAndInRange) {
   std::mt19937_64 rng(20261203);
   const auto any = [&](int bits) {
     return bits == 0 ? 0 : int64_t(rng() >> (64 - bits - 1)) - (int64_t(1) << bits);
   };
-  size_t boxed = 0, samples = 0;
+  size_t boxed = 0, samples = 0, plain = 0;
   for (int n = 0; n < 20000; ++n) {
     ml::TexturePlanes p{};
     for (int i = 0; i < 3; ++i) {
       p.a[i] = any(int(rng() % 46));
       p.b[i] = any(int(rng() % 46));
       p.k[i] = any(int(rng() % 60));
-      for (int k = 0; k < 2; ++k) p.uv[i][k] = int32_t(uint32_t(rng()));
+      // Coordinates of any sign, or (one case in two) of one sign: sums that may be plain.
+      for (int k = 0; k < 2; ++k) p.uv[i][k] = int32_t(uint32_t(rng()) >> (n % 2));
     }
     p.exact = true;
     const int32_t x0 = int32_t(rng() % 2048), y0 = int32_t(rng() % 2048);
@@ -370,9 +458,16 @@ TEST(TextureMapping, BoxSumsOfAnyPlanesStayPositiveAndInRange) {
     if (!p.boxed) continue;
     ++boxed;
     const ml::BoxSums& s = p.sums;
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    plain += s.plain;
+#endif
     for (int32_t y = y0 - 1; y <= y1 + 1; ++y) {
       ml::BoxSteps steps(p);
       steps.start(p, x0 - 1, y);
+#if UINTPTR_MAX > 0xFFFFFFFFu
+      ml::BoxSteps<true> plain_steps(p);
+      plain_steps.start(p, x0 - 1, y);
+#endif
       for (int32_t x = x0 - 1; x <= x1 + 1; ++x, ++samples) {
         const int64_t w = s.at[2] + s.dx[2] * (x - s.x) + s.dy[2] * (y - s.y);
         ASSERT_GT(w, 0) << "case " << n;
@@ -382,12 +477,29 @@ TEST(TextureMapping, BoxSumsOfAnyPlanesStayPositiveAndInRange) {
         for (int k = 0; k < 2; ++k) {
           const int64_t sum = s.at[k] + s.dx[k] * (x - s.x) + s.dy[k] * (y - s.y);
           ASSERT_EQ(uv[k], int32_t(std::clamp<int64_t>(ml::div_floor(sum, w), INT32_MIN, INT32_MAX))) << "case " << n;
+#if UINTPTR_MAX > 0xFFFFFFFFu
+          if (s.plain) {
+            ASSERT_GE(sum, 0) << "case " << n;
+            ASSERT_LT(ml::div_floor(sum, w), int64_t(1) << 31) << "case " << n;
+          }
+#endif
         }
+#if UINTPTR_MAX > 0xFFFFFFFFu
+        int32_t truncated[2];
+        plain_steps.next(truncated);
+        if (s.plain) {
+          ASSERT_EQ(truncated[0], uv[0]) << "case " << n;
+          ASSERT_EQ(truncated[1], uv[1]) << "case " << n;
+        }
+#endif
       }
     }
   }
   EXPECT_GT(boxed, 5000u);
   EXPECT_GT(samples, 100000u);
+#if UINTPTR_MAX > 0xFFFFFFFFu
+  EXPECT_GT(plain, 500u);
+#endif
 }
 
 // A texture of random bytes in format f (any bytes are valid: palette indices past the palette read
@@ -616,6 +728,70 @@ TEST(TextureMapping, BlocksOfRowsGiveTheColoursSampleBySample) {
   }
   EXPECT_GT(compared, 100000u);
   EXPECT_GT(boxed, 2u);
+}
+
+// A row's spans of small triangles sampled in one call (sample_spans, the scanline renderer's row of
+// small triangles: each span with its own planes and colour) give the colours sample by sample: every
+// format and wrap, both filters, boxed and divided triangles, grey colours (white, black, any grey:
+// one product for the three channels) and others, through the white table (and its lanes on 64-bit
+// hosts, as the renderer takes them).
+TEST(TextureMapping, SpansOfSmallTrianglesGiveTheColoursSampleBySample) {
+  std::mt19937 rng(19);
+  const ml::TexelFormat formats[] = {ml::TexelFormat::Rgb565, ml::TexelFormat::Palette8, ml::TexelFormat::Grey4};
+  size_t compared = 0, boxed = 0, grey = 0;
+  for (int n = 0; n < 120; ++n) {
+    const Case base = random_case(rng);
+    RandomTexture tex(rng, formats[n % 3], base.width, base.height);
+    if (n % 2) tex.t.wrap_s = tex.t.wrap_t = uint8_t(ml::TextureWrap::Repeat);
+    tex.t.filter = uint8_t(n % 5 == 4 ? ml::TextureFilter::Nearest : ml::TextureFilter::Bilinear);
+    std::vector<ml::Pixel> white(ml::kTexelLutEntries);
+    ml::make_texel_lut(tex.t, tex.bytes.data(), 0xFFFFFF, white.data());
+    std::vector<uint64_t> lanes(ml::kTexelLutEntries);
+    ml::spread_texel_lut(tex.t, white.data(), lanes.data());
+    // Triangles of this texture, each small (divided, or boxed over the screen), with its colour.
+    std::vector<ml::TexturePlanes> planes(6);
+    std::vector<ml::Pixel> colours(planes.size());
+    for (size_t i = 0; i < planes.size(); ++i) {
+      Case c = random_case(rng);
+      c.width = base.width, c.height = base.height;
+      planes[i] = planes_for(c, tex.t);
+      planes[i].exact = true;
+      if (rng() % 4 != 0) boxed += box_over_screen(&planes[i]);
+      const uint32_t g = rng() % 256;
+      const int kind = int(rng() % 4);
+      colours[i] = kind == 0 ? 0xFFFFFF : kind == 1 ? 0 : kind == 2 ? g * 0x010101u : ml::Pixel(rng() & 0xFFFFFF);
+      grey += kind != 3;
+    }
+    for (int k = 0; k < 30; ++k) {
+      const int32_t y = int32_t(rng() % 240);
+      std::vector<ml::SmallSpan> spans;
+      for (int32_t x = int32_t(rng() % 8); x < 320; x += 1 + int32_t(rng() % 6)) {
+        const int32_t len = std::min<int32_t>(320 - x, 1 + int32_t(rng() % 6));
+        const size_t i = rng() % planes.size();
+        spans.push_back(ml::SmallSpan{&planes[i], colours[i], x, len});
+        x += len;
+      }
+      std::vector<ml::Pixel> row(320, 0x12345678u);
+      const ml::TextureSampling sampling =
+          ml::texture_sampling(*spans[0].planes, tex.t, tex.bytes.data(), white.data(), 0xFFFFFF, spans[0].colour,
+                               lanes.data());
+      ml::sample_spans(sampling, spans.data(), uint32_t(spans.size()), y, row.data());
+      for (const ml::SmallSpan& sp : spans)
+        for (int32_t j = 0; j < sp.n; ++j) {
+          int32_t uv[2];
+          ml::TexturePlanes one = *sp.planes;
+          ml::texture_uv(one, sp.x + j, y, uv);
+          ASSERT_EQ(row[size_t(sp.x + j)], ml::sample_texture(tex.t, tex.bytes.data(), uv, sp.colour, true))
+              << "case " << n << " sample " << sp.x + j << "," << y << " format " << int(tex.t.format) << " filter "
+              << int(tex.t.filter) << " wraps " << int(tex.t.wrap_s) << int(tex.t.wrap_t) << " colour " << std::hex
+              << sp.colour << (sp.planes->boxed ? " boxed" : " divided");
+          ++compared;
+        }
+    }
+  }
+  EXPECT_GT(compared, 100000u);
+  EXPECT_GT(boxed, 100u);
+  EXPECT_GT(grey, 300u);
 }
 
 }  // namespace
