@@ -1024,9 +1024,9 @@ template <TexelFormat F>
   bilinear_runs(*sp.planes, t, fetch, tint_of(sp.colour), repeat, RowRuns{{}, sp.x, y, sp.n, y + 1}, row + sp.x);
 }
 // lanes_spans for one wrap (Repeat: both axes repeat). A boxed span of a grey colour (white light on a
-// white base colour, the common case) takes the loop written out here, BoxSteps' coordinates and
-// bilinear_tinted's colours sample by sample (the same values as bilinear_runs); the others
-// lanes_span, out of this loop's registers.
+// white base colour, the common case) takes its loop here, BoxSteps' coordinates and bilinear_tinted's
+// colours sample by sample (bilinear_runs' values, without its wrap and colour tests a span); the
+// others lanes_span, out of this loop's registers.
 template <TexelFormat F, bool Repeat>
 __attribute__((always_inline)) inline void lanes_spans_as(const TextureTexels& t, const LutTexels<F, Spread>& fetch,
                                                           const SmallSpan* sp, const SmallSpan* end, int32_t y,
@@ -1039,30 +1039,19 @@ __attribute__((always_inline)) inline void lanes_spans_as(const TextureTexels& t
       lanes_span<F>(t, fetch, Repeat, *sp, y, row);
       continue;
     }
-    const BoxSums& s = p.sums;
-    const int64_t dx = sp->x - s.x, dy = y - s.y;
-    int64_t n0 = s.at[0] + s.dx[0] * dx + s.dy[0] * dy, n1 = s.at[1] + s.dx[1] * dx + s.dy[1] * dy;
-    int64_t n2 = s.at[2] + s.dx[2] * dx + s.dy[2] * dy;
+    const Tint tint = tint_of(c);
     Pixel* out = row + sp->x;
     Pixel* const stop = out + sp->n;
-    const auto samples = [&](auto plain) ML_RUN_LAMBDA {
-      do {  // bilinear_tinted<Repeat, true>, its grey multiplier known
+    const auto samples = [&](auto steps) ML_RUN_LAMBDA {
+      steps.start(p, sp->x, y);
+      do {
         int32_t uv[2];
-        if (decltype(plain)::value) {  // BoxSums::plain: the truncated quotients are the floored ones, in range
-          uv[0] = int32_t(n0 / n2);
-          uv[1] = int32_t(n1 / n2);
-        } else {
-          clamped_coordinates(texture_floor_quotient(n0, n2), texture_floor_quotient(n1, n2), uv);
-        }
-        n0 += s.dx[0], n1 += s.dx[1], n2 += s.dx[2];
-        const Taps k = bilinear_taps<Repeat>(t, uv[0], uv[1]);
-        const Spread top = lerp_spread(spread(fetch(k.xa, k.ya)), spread(fetch(k.xb, k.ya)), k.fx);
-        const Spread bottom = lerp_spread(spread(fetch(k.xa, k.yb)), spread(fetch(k.xb, k.yb)), k.fx);
-        *out = unspread(modulate_spread_grey(lerp_spread(top, bottom, k.fy), grey));
+        steps.next(uv);
+        *out = bilinear_tinted<Repeat, true>(t, uv[0], uv[1], fetch, tint);
       } while (++out != stop);
     };
-    if (s.plain) samples(Flag<true>{});
-    else samples(Flag<false>{});
+    if (p.sums.plain) samples(BoxSteps<true>(p));
+    else samples(BoxSteps<false>(p));
   }
 }
 // A row's small-triangle spans through one loop: what they share (the texture, its table or lanes)
