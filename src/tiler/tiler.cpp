@@ -223,8 +223,8 @@ class BandWriter : public CoverageWriter {
     wrote_piece_ = true;
     if (!shaded_) shade();
   }
-  // Out of line on the boards: first_write is inlined in every write.
-  ML_BOARD_NOINLINE void shade() {
+  // Out of line where flash is tight: first_write is inlined in every write.
+  ML_TIGHT_FLASH_NOINLINE void shade() {
     shade_triangle(*scene_, *light_, mode_, triangle_, front_facing_, &colors_, world_);
     shaded_ = true;
     shaded_triangle_ = triangle_;
