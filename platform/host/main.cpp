@@ -397,7 +397,7 @@ void print_textures(const ml::Scene& scene) {
   for (uint32_t i = 0; i < scene.texture_texels_count; ++i) {
     const ml::TextureTexels& t = scene.texture_texels[i];
     if (t.format == uint8_t(ml::TexelFormat::None)) {
-      printf("texture %u: no texels (image missing or not decodable): material colour\n", i);
+      printf("texture %u: no texels (image missing or not decodable, or not a base colour texture): material colour\n", i);
       continue;
     }
     printf("texture %u: %ux%u %s", i, t.width, t.height, texel_format_name(t.format));

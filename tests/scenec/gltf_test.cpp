@@ -720,3 +720,40 @@ TEST(SceneGltf, AMissingImageFileIsOneWarningNamingIt) {
     EXPECT_EQ(about_the_file, naming);
   }
 }
+
+// Only a drawn primitive's base colour texture is sampled: a normal map and the texture of a material
+// no primitive uses keep their places in the texture table (the indices stay) without texels, with one
+// warning naming them.
+TEST(SceneGltf, TexturesNotSampledAreLeftOutWithOneWarning) {
+  const std::vector<float> position = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  std::vector<uint8_t> bytes(36);
+  std::memcpy(bytes.data(), position.data(), 36);
+  const std::string dir = scenetest::temp_dir();
+  ASSERT_EQ(mlhost::write_png_rgb(dir + "/base.png", 2, 2, std::vector<ml::Pixel>(4, 0x336699u)), "");
+  ASSERT_EQ(mlhost::write_png_rgb(dir + "/normal.png", 2, 2, std::vector<ml::Pixel>(4, 0x8080FFu)), "");
+  scenetest::write_file(
+      dir + "/m.gltf",
+      "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"data:application/octet-stream;base64," +
+          base64(bytes) + "\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
+          "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"images\":[{\"uri\":\"base.png\"},{\"uri\":\"normal.png\"}],"
+          "\"textures\":[{\"source\":0},{\"source\":1},{\"source\":0}],"
+          "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}},\"normalTexture\":{\"index\":1}},"
+          "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":2}}}],"
+          "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"material\":0}]}],"
+          "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}");
+  SceneMesh mesh;
+  std::vector<std::string> warnings;
+  std::string error;
+  ASSERT_TRUE(import_gltf_file(dir + "/m.gltf", &mesh, &warnings, &error)) << error;
+  EXPECT_EQ(mesh.texture_images, (std::vector<uint32_t>{0, kNone, kNone}));
+  EXPECT_EQ(warnings, (std::vector<std::string>{
+                          "textures 1, 2: not the base colour of a drawn primitive's material, texels left out of the scene"}));
+  const CompileResult r = compile_gltf_file(dir + "/m.gltf");
+  ASSERT_TRUE(r.ok) << r.error;
+  Scene s;
+  ASSERT_TRUE(read_scene(r.blob.data(), r.blob.size, &s).ok());
+  ASSERT_EQ(s.texture_count, 3u);
+  EXPECT_NE(s.texture_texels[0].format, uint8_t(TexelFormat::None));
+  EXPECT_EQ(s.texture_texels[1].format, uint8_t(TexelFormat::None));
+  EXPECT_EQ(s.texture_texels[2].format, uint8_t(TexelFormat::None));
+}

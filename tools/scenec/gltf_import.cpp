@@ -456,6 +456,7 @@ class Importer {
       if (!visit(root)) return false;
     }
     if (total_triangles_ == 0) return fail("scene has no triangles: " + why_no_triangles(roots));
+    leave_out_unsampled_textures();
     return true;
   }
 
@@ -466,6 +467,30 @@ class Importer {
     Mat4 world;
     size_t next_child;
   };
+
+  // maskline samples a material's base colour texture only: the file's other textures (normal,
+  // occlusion, emissive or metallic-roughness maps) and those of materials no drawn primitive uses
+  // would take the blob's flash for nothing. They stay in the texture table without texels.
+  void leave_out_unsampled_textures() {
+    std::vector<bool> sampled(mesh_.texture_images.size(), false);
+    for (const MeshNode& node : mesh_.nodes) {
+      for (const MeshPrimitive& prim : node.primitives) {
+        if (prim.triangles.empty() || prim.material >= mesh_.materials.size()) continue;
+        const uint32_t t = mesh_.materials[prim.material].texture;
+        if (t != kNone) sampled[t] = true;
+      }
+    }
+    std::string left_out;
+    int count = 0;
+    for (size_t t = 0; t < sampled.size(); ++t) {
+      if (sampled[t] || mesh_.texture_images[t] == kNone) continue;
+      left_out += (count++ ? ", " : "") + std::to_string(t);
+      mesh_.texture_images[t] = kNone;
+    }
+    if (count > 0)
+      warn((count == 1 ? "texture " : "textures ") + left_out +
+           ": not the base colour of a drawn primitive's material, texels left out of the scene");
+  }
 
   void warn(const std::string& w) {
     if (warnings_.size() < 100) warnings_.push_back(printable(w));
