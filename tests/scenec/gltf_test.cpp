@@ -757,3 +757,24 @@ TEST(SceneGltf, TexturesNotSampledAreLeftOutWithOneWarning) {
   EXPECT_EQ(s.texture_texels[1].format, uint8_t(TexelFormat::None));
   EXPECT_EQ(s.texture_texels[2].format, uint8_t(TexelFormat::None));
 }
+
+// assimp's wrongTypes models: a texture transform that is not an object is named and ignored (the
+// texture drawn untransformed); a texture index of -1 or a pbrMetallicRoughness that is not an object
+// leave the material untextured, and the texture's texels out (TexturesNotSampledAre...).
+TEST(SceneGltf, WrongTypesOfTextureFieldsAreWarnedOrLeftOut) {
+  const std::string dir = "/usr/share/assimp/models/glTF2/wrongTypes/";
+  if (access((dir + "badExtension.gltf").c_str(), R_OK) != 0) GTEST_SKIP() << "assimp test models not installed";
+  const CompileResult transform = compile_gltf_file(dir + "badExtension.gltf");
+  ASSERT_TRUE(transform.ok) << transform.error;
+  EXPECT_TRUE(std::any_of(transform.warnings.begin(), transform.warnings.end(), [](const std::string& w) {
+    return w.find("KHR_texture_transform is not an object, ignored") != std::string::npos;
+  }));
+  for (const char* name : {"badUint.gltf", "badObject.gltf"}) {
+    const CompileResult r = compile_gltf_file(dir + name);
+    ASSERT_TRUE(r.ok) << name << ": " << r.error;
+    EXPECT_EQ(r.warnings, (std::vector<std::string>{
+                              "texture 0: not the base colour of a drawn primitive's material, texels left out of the scene"}))
+        << name;
+    EXPECT_LT(r.blob.size, 4096u) << name;  // the 65,646 bytes of texels left out
+  }
+}

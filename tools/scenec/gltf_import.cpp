@@ -603,6 +603,8 @@ class Importer {
       const double r = number_at(rotation, -1, 0);
       m = {std::cos(r) * sx, std::sin(r) * sy, ox, -std::sin(r) * sx, std::cos(r) * sy, oy};
       if (t.Has("texCoord")) tex_coord = int(number_at(t.Get("texCoord"), -1, 0));
+    } else if (info.extensions_json_string.find("\"KHR_texture_transform\"") != std::string::npos) {
+      warn("material '" + name + "': its KHR_texture_transform is not an object, ignored");
     }
     if (tex_coord != 0 && info.index >= 0)
       warn("material '" + name + "': base colour texture uses TEXCOORD_" + std::to_string(tex_coord) +
@@ -1130,6 +1132,9 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
     tinygltf::Model model;
     ImageLoad image_load{kMaxImagePixels, &model};
     loader.SetImageLoader(&decode_image, &image_load);
+    // The extensions' JSON as written: tinygltf drops an extension that is not an object, which the
+    // importer then names (texture_transform).
+    loader.SetStoreOriginalJSONForExtrasAndExtensions(true);
     tinygltf::FsCallbacks fs{};
     const std::string dir = without_leading_dot_slash(base_dir);  // (empty stays empty: no file read)
     std::string beside = dir.empty() || dir.back() == '/' ? dir : dir + "/";
