@@ -68,16 +68,27 @@ void Pyramid::clear() {
   const int n = layout.levels;
   for (int l = 0; l < n; ++l) {
     const int s = layout.shift(l);
-    for (int my = 0; my < layout.rows[l]; ++my)
-      for (int mx = 0; mx < layout.cols[l]; ++mx) {
-        const int x0 = mx << s, y0 = my << s;
-        uint64_t wholly = 0, partly = 0;
-        // Interior masks (the common case) need no per-subcell work.
-        if (x0 + (1 << s) > layout.width || y0 + (1 << s) > layout.height)
-          offscreen_bits(x0, y0, s - 3, layout.width, layout.height, &wholly, &partly);
+    // Masks that end on screen start all vacant, stored without a test each; only a row's last mask and
+    // the last row's masks may reach past the screen (2CylinderEngine at 1024x768: 0.25 M -> 0.04 M
+    // instructions a frame).
+    const int inside_cols = min_of(layout.cols[l], layout.width >> s);
+    for (int my = 0; my < layout.rows[l]; ++my) {
+      const int y0 = my << s;
+      const int inside = y0 + (1 << s) > layout.height ? 0 : inside_cols;
+      if (l == n - 1) {
+        uint64_t* row = &block(0, my);
+        for (int mx = 0; mx < inside; ++mx) row[mx] = 0;
+      } else {
+        TriageMask* row = &mask(l, 0, my);
+        for (int mx = 0; mx < inside; ++mx) row[mx] = TriageMask{0, ~uint64_t(0)};
+      }
+      for (int mx = inside; mx < layout.cols[l]; ++mx) {
+        uint64_t wholly, partly;
+        offscreen_bits(mx << s, y0, s - 3, layout.width, layout.height, &wholly, &partly);
         if (l == n - 1) block(mx, my) = wholly;
         else mask(l, mx, my) = TriageMask{wholly, ~(wholly | partly)};
       }
+    }
   }
 }
 
