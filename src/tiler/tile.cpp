@@ -352,11 +352,12 @@ constexpr bool kKeptParent = UINTPTR_MAX > 0xFFFFFFFFu;
 constexpr uint8_t kFrom[8] = {0xFF, 0xFE, 0xFC, 0xF8, 0xF0, 0xE0, 0xC0, 0x80};
 constexpr uint8_t kTo[8] = {0x01, 0x03, 0x07, 0x0F, 0x1F, 0x3F, 0x7F, 0xFF};
 
-// Columns a..b (0 <= a <= b) of row r of the masks blocks[a / 8], ..., blocks[b / 8]: the end blocks'
-// bytes cut at a and b, any between full. Stored, not merged: each row of a block is placed once, into
-// a cleared mask.
-inline void place_bytes(uint64_t* blocks, int r, int32_t a, int32_t b) {
-  uint8_t* at = reinterpret_cast<uint8_t*>(blocks + (a >> 3)) + r;
+// Columns a..b (0 <= a <= b) of a row of masks kStride bytes apart, `row` its byte in the first: the
+// end masks' bytes cut at a and b, any between full. Stored, not merged: each row of a mask is placed
+// once, into a cleared mask.
+template <int kStride>
+inline void place_bytes(uint8_t* row, int32_t a, int32_t b) {
+  uint8_t* at = row + (a >> 3) * kStride;
   const int n = (b >> 3) - (a >> 3);
   const uint32_t head = kFrom[a & 7], tail = kTo[b & 7];
   if (n == 0) {
@@ -364,8 +365,8 @@ inline void place_bytes(uint64_t* blocks, int r, int32_t a, int32_t b) {
     return;
   }
   *at = uint8_t(head);
-  for (int i = 1; i < n; ++i) at[8 * i] = 0xFFu;
-  at[8 * n] = uint8_t(tail);
+  for (int i = 1; i < n; ++i) at[kStride * i] = 0xFFu;
+  at[kStride * n] = uint8_t(tail);
 }
 
 // Bits first..last of a row (0 <= first <= last < the grid's kSamples).
@@ -805,8 +806,9 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
   constexpr int kBlocks = Grid::kSamples / 8 + 1;
   const int cx0 = poly.min_x >> 3, cy0 = poly.min_y >> 3;
   const int nx = (poly.max_x >> 3) - cx0 + 1, ny = (poly.max_y >> 3) - cy0 + 1;
-  // The polygon's samples in each block; only the nx x ny blocks in use are cleared (with the whole
-  // array cleared, a memset of 200 bytes a call).
+  // The polygon's samples in each block, cover[i][j] for block (cx0 + i, cy0 + j): a block column's masks
+  // are adjacent, so the box's row y lies at byte y + y0 of each column (kByteRows). Only the nx x ny
+  // blocks in use are cleared (with the whole array cleared, a memset of 200 bytes a call).
   uint64_t cover[kBlocks][kBlocks];
   // The blocks' covered samples (block_done) are asked of the first blocks, for the test below, then
   // only of the blocks the polygon reaches, as they are covered (the other blocks' writes change no bit
@@ -837,21 +839,22 @@ bool HierTiler::tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileR
   *result = TileResult::Tiled;
   if (setup == SmallSetup::Outside) return true;
   for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) cover[j][i] = 0;
+    for (int i = 0; i < nx; ++i) cover[i][j] = 0;
   const int32_t last_column = poly.max_x - poly.min_x;
   const int s = poly.min_x & 7;  // the box's first column within its block
   const int y0 = poly.min_y & 7;  // the box's first row within its block
   // A row's span placed at its column in the blocks it reaches (row y of the box).
-  auto place = [&cover, s, y0](int y, int32_t first, int32_t last) {
-    if (kByteRows) return place_bytes(cover[(y + y0) >> 3], (y + y0) & 7, first + s, last + s);
+  uint8_t* const row0 = reinterpret_cast<uint8_t*>(&cover[0][0]) + y0;  // the box's first row, block column 0
+  auto place = [&cover, row0, s, y0](int y, int32_t first, int32_t last) {
+    if (kByteRows) return place_bytes<kBlocks * 8>(row0 + y, first + s, last + s);
     const typename Grid::Placed row(span_bits<typename Grid::Word>(first, last), s);
     const int j = (y + y0) >> 3, shift = ((y + y0) & 7) * 8;
-    for (int i = (first + s) >> 3; i <= (last + s) >> 3; ++i) cover[j][i] |= uint64_t(row.byte(i)) << shift;
+    for (int i = (first + s) >> 3; i <= (last + s) >> 3; ++i) cover[i][j] |= uint64_t(row.byte(i)) << shift;
   };
   rows.each_row(poly.max_y - poly.min_y + 1, last_column, place);
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i)
-      if (cover[j][i] != 0 && !cover_block(cx0 + i, cy0 + j, cover[j][i] & ~done(cx0 + i, cy0 + j), writer)) {
+      if (cover[i][j] != 0 && !cover_block(cx0 + i, cy0 + j, cover[i][j] & ~done(cx0 + i, cy0 + j), writer)) {
         *result = TileResult::Failed;
         return true;
       }
