@@ -196,9 +196,12 @@ class BandWriter : public CoverageWriter {
     first_write();
     if (factor_ == 1 && !cosine_) {
       // One colour for the whole block: the mask goes to the band as it is, not run by run.
-      if (texture_ == kNone && !colors_.smooth && out_.fill_mask(mask, x, band_y + top_, colors_.flat)) {
-        stats_->pixel_writes += uint64_t(bit_count64(mask));
-        return true;
+      if (texture_ == kNone && !colors_.smooth) {
+        const int stored = out_.fill_mask(mask, x, band_y + top_, colors_.flat);
+        if (stored >= 0) {
+          stats_->pixel_writes += uint64_t(stored);
+          return true;
+        }
       }
       if (texture_ != kNone && !colors_.smooth && write_textured_block(mask, x, band_y + top_)) return true;
       return CoverageWriter::write_block(mask, x, band_y);
