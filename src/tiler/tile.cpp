@@ -763,9 +763,12 @@ bool HierTiler::start_cell(const ConvexPoly& poly, int* level, int* mx, int* my)
   return box_uncovered(target, *mx, *my);
 }
 
-// Carries a cell's new status to every ancestor (tiling may start below the root).
+// Carries a cell's new status to its ancestors (tiling may start below the root), up to the first whose
+// bits stay as they were: the ones above it agree with it already (every mask's bits are its children's
+// status, or the mask is stale, under a covered subcell, and never tiled). The kept parent (KeptParent)
+// holds covered bits only: forgotten when one changes. 2CylinderEngine at 1024x768: most blocks a polygon
+// starts are in a parent already started, so the walk stops at the parent.
 void HierTiler::propagate_up(int level, int mx, int my) {
-  if (kKeptParent) forget_parent();  // triage masks change
   const PyramidLayout& lay = pyr_->layout;
   for (int l = level; l > 0; --l) {
     bool all_covered, none_covered;
@@ -782,8 +785,12 @@ void HierTiler::propagate_up(int level, int mx, int my) {
     mx >>= 3;
     my >>= 3;
     TriageMask& parent = pyr_->mask(l - 1, mx, my);
-    if (all_covered) parent.c |= bit;
-    if (!none_covered) parent.v &= ~bit;
+    const uint64_t c = all_covered ? parent.c | bit : parent.c;
+    const uint64_t v = none_covered ? parent.v : parent.v & ~bit;
+    if (c == parent.c && v == parent.v) return;
+    if (kKeptParent && c != parent.c) forget_parent();
+    parent.c = c;
+    parent.v = v;
   }
 }
 
