@@ -13,6 +13,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "core/build.h"
 #include "core/sink.h"
 
 namespace ml {
@@ -66,7 +67,9 @@ class PixelPacker {
   // then the caller fills the mask's runs.
   // Inline: a tiled block's call and its saved registers cost as much as its stores (2CylinderEngine at
   // 1024x768: 18,608 blocks).
-  int fill_mask(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, Pixel value) {
+  // Whether fill_mask stores `value` without quantizing it first (the last value it was given).
+  bool mask_value_ready(Pixel value) const { return mask_ready_ && value == mask_value_; }
+  ML_HOST_INLINE int fill_mask(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, Pixel value) {
     if (mask_bytes_ == 0) return -1;
     if (!mask_ready_ || value != mask_value_) quantize_mask_value(value);
     // A local copy: the band's bytes cannot alias it, so it stays in a register through the stores.
