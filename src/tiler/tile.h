@@ -140,17 +140,18 @@ class BoxWitness {
 template <>
 class BoxWitness<true> {
  protected:
+  // No witness reaches any box: its columns are INT32_MAX..INT32_MIN.
   bool witness_reached(const ConvexPoly& p) const {
-    return wx0_ <= wx1_ && p.min_x <= wx1_ && wx0_ <= p.max_x && p.min_y <= wy1_ && wy0_ <= p.max_y;
+    return p.min_x <= wx1_ && wx0_ <= p.max_x && p.min_y <= wy1_ && wy0_ <= p.max_y;
   }
   // Remembered by queries (const: they never change the pyramid).
   void remember_witness(int32_t x0, int32_t y0, int32_t x1, int32_t y1) const {
     wx0_ = x0, wy0_ = y0, wx1_ = x1, wy1_ = y1;
   }
-  void forget_witness() { wx0_ = 1, wx1_ = 0; }
+  void forget_witness() { wx0_ = INT32_MAX, wx1_ = INT32_MIN; }
 
  private:
-  mutable int32_t wx0_ = 1, wy0_ = 0, wx1_ = 0, wy1_ = 0;
+  mutable int32_t wx0_ = INT32_MAX, wy0_ = 0, wx1_ = INT32_MIN, wy1_ = 0;
 };
 
 // The covered blocks of finest-level parent (x, y), or all of them when an ancestor is covered
@@ -241,7 +242,7 @@ class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)>, private KeptP
   bool block_samples(const Edges& in, uint64_t* out) const;
   bool tile_cell(int level, int mx, int my, const Edges& in, CoverageWriter& writer);
   template <class Grid>
-  bool tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result);
+  bool tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result, bool open);
   bool tile_in_block(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result);
   bool cover_block(int bx, int by, uint64_t w, CoverageWriter& writer);
   uint64_t block_done(int bx, int by, ParentCover* parent) const;
