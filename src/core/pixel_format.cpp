@@ -249,8 +249,9 @@ namespace {
 constexpr bool kWideStores = UINTPTR_MAX > 0xFFFFFFFFu;
 
 // A block of one stored value in a format of whole bytes a pixel: the value's bytes once, copied, on
-// 64-bit hosts four wide stores at a time (2CylinderEngine, tiler, 1024x768: the background and the
-// large parts, 2.71 M -> 0.65 M instructions).
+// 64-bit hosts eight wide stores at a time, unrolled (2CylinderEngine, tiler, 1024x768: the background
+// and the large parts, 2.71 M -> 0.65 M instructions with four, 0.54 M with eight; GCC keeps a loop of
+// eight as a loop unless told).
 template <int kBytes>
 void fill_bytes(uint8_t* band, uint32_t stride, int x, int row, int w, int h, const uint8_t* pattern) {
   constexpr int kPerWide = 8 / kBytes;  // pixels an 8-byte store holds
@@ -260,8 +261,10 @@ void fill_bytes(uint8_t* band, uint32_t stride, int x, int row, int w, int h, co
     uint8_t* at = band + uint32_t(row + j) * stride + uint32_t(x) * kBytes;
     int i = 0;
     if (kWideStores) {
-      for (; i + 4 * kPerWide <= w; i += 4 * kPerWide, at += 32)
-        for (int k = 0; k < 32; k += 8) memcpy(at + k, wide, 8);
+      for (; i + 8 * kPerWide <= w; i += 8 * kPerWide, at += 64) {
+#pragma GCC unroll 8
+        for (int k = 0; k < 64; k += 8) memcpy(at + k, wide, 8);
+      }
       for (; i + kPerWide <= w; i += kPerWide, at += 8) memcpy(at, wide, 8);
     }
     for (; i < w; ++i, at += kBytes) memcpy(at, pattern, kBytes);
