@@ -752,11 +752,22 @@ bool HierTiler::start_cell(const ConvexPoly& poly, int* level, int* mx, int* my)
   int m = (bit_length(d) + 2) / 3;
   if (m < 1) m = 1;
   const int target = lay.levels - m;
-  for (int l = 0, sub = lay.shift(0) - 3; l < target; ++l, sub -= 3) {
+  // The levels above the kept path's cell (KeptParent) when the start cell lies in it: tested already.
+  // Only for a path of two tests or more: with one the check costs what it saves (2CylinderEngine at
+  // 1024x768: 68.95 M -> 68.70 M instructions a frame; for every path 68.76 M, and 320x240 52.45 M ->
+  // 52.54 M; from three tests on 68.94 M).
+  int l = 0;
+  if (kKeptParent && target >= 2) {
+    const int kept = min_of(target, kept_path_level()), up = 3 * (kept_path_level() - kept);
+    if ((poly.min_x >> lay.shift(kept)) == (kept_path_x() >> up) && (poly.min_y >> lay.shift(kept)) == (kept_path_y() >> up))
+      l = kept;
+  }
+  for (int sub = lay.shift(l) - 3; l < target; ++l, sub -= 3) {
     const int cx = poly.min_x >> sub, cy = poly.min_y >> sub;  // the level-(l + 1) cell on the path
     if ((pyr_->mask(l, cx >> 3, cy >> 3).c >> ((cy & 7) * 8 + (cx & 7))) & 1) return false;
   }
   const int s = lay.shift(target);
+  if (kKeptParent && target >= 2) keep_path(target, poly.min_x >> s, poly.min_y >> s);
   *level = target;
   *mx = poly.min_x >> s;
   *my = poly.min_y >> s;

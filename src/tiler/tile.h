@@ -164,20 +164,40 @@ struct ParentCover {
 // The last ParentCover a small polygon looked up, kept for the next until a triage mask changes (the
 // neighbouring triangles the BSP hands over one after another share parents). 64-bit hosts only: an
 // empty base on the boards, as BoxWitness.
+// With it, the last cell start_cell found no covered subcell above (its level, 0 for none, and position):
+// the next start cell below it need not test those levels again (the BSP hands over neighbouring boxes).
 template <bool kKept>
 class KeptParent {
  protected:
   ParentCover* kept_parent() { return nullptr; }
   void forget_parent() {}
+  int kept_path_level() const { return 0; }
+  int32_t kept_path_x() const { return 0; }
+  int32_t kept_path_y() const { return 0; }
+  void keep_path(int, int32_t, int32_t) const {}
 };
 template <>
 class KeptParent<true> {
  protected:
   ParentCover* kept_parent() { return &parent_; }
-  void forget_parent() { parent_.x = -1; }
+  void forget_parent() {
+    parent_.x = -1;
+    path_level_ = 0;
+  }
+  int kept_path_level() const { return path_level_; }
+  int32_t kept_path_x() const { return path_x_; }
+  int32_t kept_path_y() const { return path_y_; }
+  // Kept by queries too (const: they never change the pyramid).
+  void keep_path(int level, int32_t x, int32_t y) const {
+    path_level_ = level;
+    path_x_ = x;
+    path_y_ = y;
+  }
 
  private:
   ParentCover parent_;
+  mutable int path_level_ = 0;
+  mutable int32_t path_x_ = 0, path_y_ = 0;
 };
 
 class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)>, private KeptParent<(UINTPTR_MAX > 0xFFFFFFFFu)> {
