@@ -263,8 +263,9 @@ class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)>, private KeptP
   bool tile_cell(int level, int mx, int my, const Edges& in, CoverageWriter& writer);
   template <class Grid>
   bool tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result, bool open);
+  bool tile_wide(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result, bool open);
   bool tile_in_block(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result);
-  bool cover_block(int bx, int by, uint64_t w, CoverageWriter& writer);
+  bool cover_block(int bx, int by, uint64_t w, CoverageWriter& writer, bool parent_inline);
   uint64_t block_done(int bx, int by, ParentCover* parent) const;
   bool covered_above(int level, int mx, int my) const;
   bool query_cell(int level, int mx, int my, const Edges& in) const;
@@ -275,6 +276,7 @@ class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)>, private KeptP
   bool box_uncovered(int level, int mx, int my) const;
   bool block_uncovered(uint64_t box, int bx, int by) const;
   void propagate_up(int level, int mx, int my);
+  void block_to_parent(int bx, int by, uint64_t block);
   void add_work(int level, int mx, int my);
 
   Pyramid* pyr_ = nullptr;
