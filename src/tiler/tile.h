@@ -200,7 +200,27 @@ class KeptParent<true> {
   mutable int32_t path_x_ = 0, path_y_ = 0;
 };
 
-class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)>, private KeptParent<(UINTPTR_MAX > 0xFFFFFFFFu)> {
+// The small grid's blocks (tile_small) on 64-bit hosts: the tiler's, all zero between polygons, so a
+// polygon clears none before placing its rows (it clears those it reads after). An empty base on the
+// boards (their RAM), as BoxWitness.
+constexpr int kZeroBlockCount = 64;  // tile_small's SmallGrid: 8 x 8 blocks
+template <bool kKept>
+class ZeroBlocks {
+ protected:
+  uint64_t* zero_blocks() { return nullptr; }
+};
+template <>
+class ZeroBlocks<true> {
+ protected:
+  uint64_t* zero_blocks() { return blocks_; }
+
+ private:
+  uint64_t blocks_[kZeroBlockCount] = {};
+};
+
+class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)>,
+                  private KeptParent<(UINTPTR_MAX > 0xFFFFFFFFu)>,
+                  private ZeroBlocks<(UINTPTR_MAX > 0xFFFFFFFFu)> {
  public:
   // pitch: subpixels per sample (256 / samples a pixel per axis). work: optional work image (pixels,
   // the screen's size); the pyramid's row 0 is the top of its row work_row0 (the band's top row).
