@@ -851,19 +851,21 @@ ML_HOST_INLINE inline bool HierTiler::tile_small(const ConvexPoly& poly, Coverag
   // Hidden unless a block holds an uncovered sample of the box (open: known to, the caller found one). The
   // box's columns in its first and last block columns, and its rows in its first and last block rows (the
   // blocks between are whole): a block's samples in the box are one product of the two.
-  const uint32_t col_first = (0xFFu << (poly.min_x & 7)) & 0xFFu, col_last = 0xFFu >> (7 - (poly.max_x & 7));
-  const uint64_t row_first = kAll << (8 * (poly.min_y & 7)), row_last = kAll >> (8 * (7 - (poly.max_y & 7)));
-  for (int j = 0; j < ny && !open; ++j)
-    for (int i = 0; i < nx && !open; ++i) {
-      const uint64_t d = done(cx0 + i, cy0 + j);
-      // The box holds samples of every block it touches: an empty block is open without its box bits.
-      if (d == kAll) continue;
-      const uint32_t cols = (i == 0 ? col_first : 0xFFu) & (i == nx - 1 ? col_last : 0xFFu);
-      const uint64_t rows_in = (j == 0 ? row_first : kAll) & (j == ny - 1 ? row_last : kAll);
-      open = d == 0 || ((cols * 0x0101010101010101u) & rows_in & ~d) != 0;
-    }
-  *result = TileResult::Hidden;
-  if (!open) return true;
+  if (!open) {
+    const uint32_t col_first = (0xFFu << (poly.min_x & 7)) & 0xFFu, col_last = 0xFFu >> (7 - (poly.max_x & 7));
+    const uint64_t row_first = kAll << (8 * (poly.min_y & 7)), row_last = kAll >> (8 * (7 - (poly.max_y & 7)));
+    for (int j = 0; j < ny && !open; ++j)
+      for (int i = 0; i < nx && !open; ++i) {
+        const uint64_t d = done(cx0 + i, cy0 + j);
+        // The box holds samples of every block it touches: an empty block is open without its box bits.
+        if (d == kAll) continue;
+        const uint32_t cols = (i == 0 ? col_first : 0xFFu) & (i == nx - 1 ? col_last : 0xFFu);
+        const uint64_t rows_in = (j == 0 ? row_first : kAll) & (j == ny - 1 ? row_last : kAll);
+        open = d == 0 || ((cols * 0x0101010101010101u) & rows_in & ~d) != 0;
+      }
+    *result = TileResult::Hidden;
+    if (!open) return true;
+  }
   RowSpans rows;
   const SmallSetup setup = small_edges(poly, pitch_, &rows);
   if (setup == SmallSetup::TooLarge) return false;
