@@ -59,17 +59,18 @@ class PixelPacker {
   void put_row(uint8_t* band, uint32_t stride, int x, int row, int frame_y, const Pixel* pixels, int n) const;
   // A w x h block of one colour.
   void fill(uint8_t* band, uint32_t stride, int x, int row, int frame_y, int w, int h, Pixel value) const;
+  // Whether fill_mask stores `value` without quantizing it first (the last value it was given).
+  bool mask_value_ready(Pixel value) const { return mask_ready_ && value == mask_value_; }
   // The set bits of an 8x8 mask (bit = r * 8 + c: pixel (x + c, row + r)) in one colour, the value
   // quantized once for the whole block: the same stored values as fill() gives those pixels. Returns how
   // many pixels it wrote (counted as they are stored: cheaper than a population count without a popcnt
   // instruction), or -1 (nothing written) when the stored value depends on the position (dithering) or
   // the format has less than 16 bits a pixel (grey dithers by default; one loop less in a board's flash):
   // then the caller fills the mask's runs.
-  // Inline: a tiled block's call and its saved registers cost as much as its stores (2CylinderEngine at
-  // 1024x768: 18,608 blocks).
-  // Whether fill_mask stores `value` without quantizing it first (the last value it was given).
-  bool mask_value_ready(Pixel value) const { return mask_ready_ && value == mask_value_; }
-  ML_HOST_INLINE int fill_mask(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, Pixel value) {
+  // Inline on 64-bit hosts: a tiled block's call and its saved registers cost as much as its stores
+  // (2CylinderEngine at 1024x768: 18,608 blocks). On the boards one copy, optimized for size (the
+  // Cortex-M0+ image's flash, as Makefile's FW_M0_SIZE_SRC).
+  ML_HOST_INLINE ML_BOARD_NOINLINE ML_BOARD_SIZE int fill_mask(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, Pixel value) {
     if (mask_bytes_ == 0) return -1;
     if (!mask_ready_ || value != mask_value_) quantize_mask_value(value);
     // A local copy: the band's bytes cannot alias it, so it stays in a register through the stores.
@@ -105,9 +106,9 @@ class PixelPacker {
   // The set bits of an 8x8 mask (row 0 at `line`), one stored value of kBytes bytes a pixel: a full row
   // is eight stores, any other row one store a set bit (tiled blocks are mostly full or ragged rows;
   // runs found with two bit scans a row cost more than these stores: bundled scene 0.71 M -> 0.84 M).
-  // Returns the pixels stored.
+  // Returns the pixels stored. Inlined in fill_mask (on the boards, in its one copy optimized for size).
   template <int kBytes>
-  static int fill_mask_bytes(uint8_t* line, uint32_t stride, uint64_t mask, const uint8_t* pattern) {
+  [[gnu::always_inline]] static int fill_mask_bytes(uint8_t* line, uint32_t stride, uint64_t mask, const uint8_t* pattern) {
     if (mask == 0) return 0;
     // 64-bit hosts fill a full row with 8-byte stores of the value repeated (the boards' stores are
     // 32-bit, and a Cortex-M0+ has no unaligned ones).

@@ -780,10 +780,10 @@ bool HierTiler::start_cell(const ConvexPoly& poly, int* level, int* mx, int* my)
   return box_uncovered(target, *mx, *my);
 }
 
-// Carries a cell's new status to its ancestors (tiling may start below the root), up to the first whose
-// bits stay as they were: the ones above it agree with it already (every mask's bits are its children's
-// status, or the mask is stale, under a covered subcell, and never tiled). The kept parent (KeptParent)
-// holds covered bits only: forgotten when one changes. 2CylinderEngine at 1024x768: most blocks a polygon
+// Carries a cell's new status to its ancestors (tiling may start below the root), on 64-bit hosts up to the
+// first whose bits stay as they were: the ones above it agree with it already (every mask's bits are its
+// children's status, or the mask is stale, under a covered subcell, and never tiled). The kept parent
+// (KeptParent) holds covered bits only: forgotten when one changes. 2CylinderEngine at 1024x768: most blocks a polygon
 // starts are in a parent already started, so the walk stops at the parent.
 void HierTiler::propagate_up(int level, int mx, int my) {
   const PyramidLayout& lay = pyr_->layout;
@@ -802,10 +802,15 @@ void HierTiler::propagate_up(int level, int mx, int my) {
     mx >>= 3;
     my >>= 3;
     TriageMask& parent = pyr_->mask(l - 1, mx, my);
+    if (!kKeptParent) {  // the boards walk to the root (the Cortex-M0+ image's flash)
+      if (all_covered) parent.c |= bit;
+      if (!none_covered) parent.v &= ~bit;
+      continue;
+    }
     const uint64_t c = all_covered ? parent.c | bit : parent.c;
     const uint64_t v = none_covered ? parent.v : parent.v & ~bit;
     if (c == parent.c && v == parent.v) return;
-    if (kKeptParent && c != parent.c) forget_parent();
+    if (c != parent.c) forget_parent();
     parent.c = c;
     parent.v = v;
   }
@@ -901,8 +906,9 @@ ML_HOST_INLINE inline bool HierTiler::tile_small(const ConvexPoly& poly, Coverag
   return true;
 }
 
-// tile_small for boxes past SmallGrid's, out of line: few polygons take it, and tile_small is inlined.
-ML_HOST_NOINLINE bool HierTiler::tile_wide(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result,
+// tile_small for boxes past SmallGrid's, out of line on 64-bit hosts: few polygons take it, and tile_small
+// is inlined. (The boards have no wider grid: never called there.)
+ML_HOST_NOINLINE inline bool HierTiler::tile_wide(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result,
                                            bool open) {
   return tile_small<WideGrid>(poly, writer, result, open);
 }
