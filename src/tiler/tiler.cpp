@@ -193,12 +193,33 @@ class BandWriter : public CoverageWriter {
   }
 
   bool write_block(uint64_t mask, int x, int band_y) override {
+    // The common block on 64-bit hosts: one sample a pixel, the piece shaded, one colour, quantized
+    // already. Its path calls nothing, so it saves no registers: the rest is out of line
+    // (2CylinderEngine at 1024x768: 12,167 of 18,608 blocks a frame).
+    if (kLeanBlocks && factor_ == 1 && shaded_ && texture_ == kNone && !colors_.smooth && !cosine_ &&
+        out_.mask_value_ready(colors_.flat)) {
+      const int stored = out_.fill_mask(mask, x, band_y + top_, colors_.flat);
+      if (stored >= 0) {
+        wrote_piece_ = true;
+        stats_->pixel_writes += uint64_t(stored);
+        return true;
+      }
+    }
+    return write_any_block(mask, x, band_y);
+  }
+
+ private:
+  static constexpr bool kLeanBlocks = UINTPTR_MAX > 0xFFFFFFFFu;
+  ML_HOST_NOINLINE bool write_any_block(uint64_t mask, int x, int band_y) {
     first_write();
     if (factor_ == 1 && !cosine_) {
       // One colour for the whole block: the mask goes to the band as it is, not run by run.
-      if (texture_ == kNone && !colors_.smooth && out_.fill_mask(mask, x, band_y + top_, colors_.flat)) {
-        stats_->pixel_writes += uint64_t(bit_count64(mask));
-        return true;
+      if (texture_ == kNone && !colors_.smooth) {
+        const int stored = out_.fill_mask(mask, x, band_y + top_, colors_.flat);
+        if (stored >= 0) {
+          stats_->pixel_writes += uint64_t(stored);
+          return true;
+        }
       }
       if (texture_ != kNone && !colors_.smooth && write_textured_block(mask, x, band_y + top_)) return true;
       return CoverageWriter::write_block(mask, x, band_y);
@@ -217,7 +238,6 @@ class BandWriter : public CoverageWriter {
     return true;
   }
 
- private:
   // Every write of a piece: it counts as drawn, and it is shaded once, on the first.
   void first_write() {
     wrote_piece_ = true;

@@ -37,9 +37,9 @@ TEST(PixelFormat, StoreLoadRoundTripsAndKeepsNeighbours) {
   }
 }
 
-// fill_mask writes exactly the mask's pixels, each with the value fill() gives it, and leaves every
-// other byte of the band as it was; it declines (writing nothing) exactly for dithered formats and
-// those of less than 16 bits a pixel, whose pixels the caller fills run by run.
+// fill_mask writes exactly the mask's pixels, each with the value fill() gives it, counts them, and
+// leaves every other byte of the band as it was; it declines (writing nothing, -1) exactly for dithered
+// formats and those of less than 16 bits a pixel, whose pixels the caller fills run by run.
 TEST(PixelFormat, FillMaskEqualsFillOfEachSetPixel) {
   std::mt19937 rng(11);
   for (ml::PixelFormat f : kAll)
@@ -69,7 +69,8 @@ TEST(PixelFormat, FillMaskEqualsFillOfEachSetPixel) {
         const ml::Pixel value = trial % 3 == 2 ? last : rng() & 0xFFFFFF;
         last = value;
         const bool whole_bytes = ml::format_bits_per_pixel(f) >= 16 && !(dither && ml::format_is_lossy(f));
-        ASSERT_EQ(packer.fill_mask(by_mask.data(), stride, x, row, mask, value), whole_bytes);
+        ASSERT_EQ(packer.fill_mask(by_mask.data(), stride, x, row, mask, value),
+                  whole_bytes ? __builtin_popcountll(mask) : -1);
         if (!whole_bytes) {
           ASSERT_EQ(by_mask, by_fill) << "format " << int(f) << " wrote although it declined";
           continue;
