@@ -1039,7 +1039,7 @@ __attribute__((always_inline)) inline void lanes_spans_as(const TextureTexels& t
       lanes_span<F>(t, fetch, Repeat, *sp, y, row);
       continue;
     }
-    const Tint tint = tint_of(c);
+    const Tint tint{grey, grey, grey};  // tint_of(c), its grey_of known to be `grey`
     Pixel* out = row + sp->x;
     Pixel* const stop = out + sp->n;
     const auto samples = [&](auto steps) ML_RUN_LAMBDA {
@@ -1058,7 +1058,7 @@ __attribute__((always_inline)) inline void lanes_spans_as(const TextureTexels& t
 // looked at once.
 template <TexelFormat F>
 void lanes_spans(const TextureSampling& s, const SmallSpan* spans, uint32_t count, int32_t y, Pixel* row) {
-  const TextureTexels& t = *s.texture;
+  const TextureTexels t = *s.texture;  // a copy: the colours' stores cannot change it
   const LutTexels<F, Spread> fetch(t, s.bytes, s.lanes);
   const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
   if (repeat) lanes_spans_as<F, true>(t, fetch, spans, spans + count, y, row);
