@@ -771,8 +771,15 @@ struct Renderer {
     const uint32_t texture = tex_of[slot] & ~kTexReady;
     const uint8_t* bytes = texture_bytes(texture, false, y);
     if (!bytes) return c;
-    int32_t uv[2];
     TexturePlanes& planes = planes_of(slot, id);
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    if (planes.exact && !(act[slot].flags & kSmooth)) {  // a small triangle's sample as its spans take them
+      Pixel out;
+      sample_row(kept_sampling.for_texture(pager, *scene, texture, bytes, planes, c), x, y, 1, &out);
+      return out;
+    }
+#endif
+    int32_t uv[2];
     texture_uv(planes, x, y, uv);
     const TextureTexels& t = scene->texture_texels[texture];
     if (act[slot].flags & kSmooth) return sample_texture(t, bytes, uv, c, planes.exact);
