@@ -1035,7 +1035,9 @@ __attribute__((always_inline)) inline void lanes_spans_as(const TextureTexels& t
     const TexturePlanes& p = *sp->planes;
     const Pixel c = sp->colour;
     const uint32_t grey = c & 0xFF;
-    if (!p.boxed || grey == 0 || c != grey * 0x010101u || sp->n <= 0) {  // as bilinear_runs' grey_of
+    // A grey colour, as bilinear_runs' grey_of, but black too: modulate_spread_grey's 0 gives
+    // modulate_spread's black. (Spans have n >= 1.)
+    if (!p.boxed || c != grey * 0x010101u) {
       lanes_span<F>(t, fetch, Repeat, *sp, y, row);
       continue;
     }
