@@ -810,7 +810,7 @@ struct Renderer {
   }
   // The slot's texture planes: on 64-bit hosts from the view its activation kept (the planes take
   // its place), on the boards from the triangle (activation makes them there).
-  [[gnu::noinline]] void make_planes(uint32_t slot, uint32_t id) {
+  void make_planes(uint32_t slot, uint32_t id) {
     uint32_t& t = tex_of[slot];
 #if UINTPTR_MAX > 0xFFFFFFFFu
     const ViewTriangle viewed = tex_slots[slot].view;
