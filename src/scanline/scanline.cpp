@@ -451,6 +451,15 @@ struct SlotLut {
   uint32_t generation, untabled;
 };
 
+// A yActiveList slot's texture planes, or on 64-bit hosts until its first textured sample the
+// triangle's view they are made from: planes are made only for triangles some sample shows (about one
+// in nine of the duck's activated textured triangles never is). No larger than the planes alone.
+union TexSlot {
+  TexturePlanes planes;
+  ViewTriangle view;
+};
+static_assert(sizeof(TexSlot) == sizeof(TexturePlanes), "the view in the planes' place");
+
 struct Sizes {
   size_t ysort, drawn, temp, yactive, ord, xactive, keep, acc, band;
   size_t pager, texslots;  // texture pool and per-slot texture state (0 untextured)
@@ -473,7 +482,7 @@ Sizes sizes_for(const Scene& scene, const Setup& s, uint32_t n, uint32_t m) {
   z.by_rows = row_arrays_bytes(s.lat) <= max_of(size_t(n) * 2, z.keep + z.acc + z.band);
   z.temp = round8(z.by_rows ? row_arrays_bytes(s.lat) : size_t(n) * 2);
   z.pager = s.pager_bytes;
-  z.texslots = s.pager_bytes ? round8(size_t(m) * sizeof(TexturePlanes)) + round8(size_t(m) * 4) +
+  z.texslots = s.pager_bytes ? round8(size_t(m) * sizeof(TexSlot)) + round8(size_t(m) * 4) +
                                    round8(size_t(m) * sizeof(SlotLut))
                              : 0;
   return z;
@@ -599,7 +608,7 @@ struct Renderer {
   // set up) and its perspective planes, set up at the slot's first shading call
   TexturePager pager;
   uint32_t* tex_of = nullptr;
-  TexturePlanes* tex_planes = nullptr;
+  TexSlot* tex_slots = nullptr;
   SlotLut* tex_lut = nullptr;
   static constexpr uint32_t kTexReady = 0x80000000u;
   static constexpr uint32_t kTexturedChunk = 64;  // samples a supersampled textured run makes at once
@@ -627,12 +636,31 @@ struct Renderer {
 
   // --- activation (§3.1, §4.1) ---
   void activate(const YSortEntry& e, int32_t y) {
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    if (tex_of) activate_as<true>(e, y);
+    else activate_as<false>(e, y);
+#else
+    activate_as<false>(e, y);
+#endif
+  }
+  uint32_t take_slot() {
+    if (free_head == 0xFFFFFFFFu) return high++;
+    const uint32_t slot = free_head;
+    free_head = act[slot].id;
+    return slot;
+  }
+  // kKeepView: the triangle's view kept in its slot for its texture planes (64-bit hosts).
+  template <bool kKeepView>
+  void activate_as(const YSortEntry& e, int32_t y) {
     const uint32_t id = e.ref >> 4;
     const int k = int(e.ref & 7);
     ScreenTriangle pieces[kMaxClipTriangles];
     // Deterministic: the same pieces as the ySortList pass, which also found the facing. (Its view
     // transform kept for a textured triangle's planes, below.)
-    ViewTriangle viewed;
+    uint32_t slot = kKeepView ? take_slot() : 0;
+    // Kept in the slot for its texture planes, made at its first textured sample (planes_of).
+    ViewTriangle own;
+    ViewTriangle& viewed = kKeepView ? tex_slots[slot].view : own;
     const Triangle tri = triangle_at(*scene, id);
     if (holds(vertices) && shares_vertices(scene->batches[tri.batch])) {
       vertices->view(tri.batch, tri.v, &viewed);
@@ -643,9 +671,7 @@ struct Renderer {
     }
     project_triangle(s.view, viewed, (e.ref & 8) ? -1 : 1, pieces);
     const ScreenTriangle& t = pieces[k];
-    uint32_t slot;
-    if (free_head != 0xFFFFFFFFu) { slot = free_head; free_head = act[slot].id; }
-    else slot = high++;
+    if (!kKeepView) slot = take_slot();
     ActiveTri& a = act[slot];
     uint8_t flags = 0;
     for (int i = 0; i < 3; ++i) {
@@ -657,12 +683,14 @@ struct Renderer {
       tex_of[slot] = batch_textures.of_triangle(*scene, id);
       tex_lut[slot] = SlotLut{nullptr, 0, 0, ~0u, 0};
       pager.add_user(tex_of[slot]);
+#if UINTPTR_MAX == 0xFFFFFFFFu
       // The texture planes now, from the view transform at hand (planes_of would make it again).
       if (tex_of[slot] != kNone) {
-        triangle_texture_planes(*scene, s.view, id, tex_of[slot], s.lat.den, s.lat.ox, s.lat.oy, &tex_planes[slot],
+        triangle_texture_planes(*scene, s.view, id, tex_of[slot], s.lat.den, s.lat.ox, s.lat.oy, &tex_slots[slot].planes,
                                 &viewed);
         tex_of[slot] |= kTexReady;
       }
+#endif
     }
     const Material& mat = material_of(*scene, id);
     if (mat.alpha_mode == uint8_t(AlphaMode::Blend) && s.colour) flags |= kBlend;
@@ -743,8 +771,15 @@ struct Renderer {
     const uint32_t texture = tex_of[slot] & ~kTexReady;
     const uint8_t* bytes = texture_bytes(texture, false, y);
     if (!bytes) return c;
-    int32_t uv[2];
     TexturePlanes& planes = planes_of(slot, id);
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    if (planes.exact && !(act[slot].flags & kSmooth)) {  // a small triangle's sample as its spans take them
+      Pixel out;
+      sample_row(kept_sampling.for_texture(pager, *scene, texture, bytes, planes, c), x, y, 1, &out);
+      return out;
+    }
+#endif
+    int32_t uv[2];
     texture_uv(planes, x, y, uv);
     const TextureTexels& t = scene->texture_texels[texture];
     if (act[slot].flags & kSmooth) return sample_texture(t, bytes, uv, c, planes.exact);
@@ -770,11 +805,20 @@ struct Renderer {
   }
   TexturePlanes& planes_of(uint32_t slot, uint32_t id) {
     uint32_t& t = tex_of[slot];
-    if (!(t & kTexReady)) {
-      triangle_texture_planes(*scene, s.view, id, t, s.lat.den, s.lat.ox, s.lat.oy, &tex_planes[slot]);
-      t |= kTexReady;
-    }
-    return tex_planes[slot];
+    if (!(t & kTexReady)) make_planes(slot, id);
+    return tex_slots[slot].planes;
+  }
+  // The slot's texture planes: on 64-bit hosts from the view its activation kept (the planes take
+  // its place), on the boards from the triangle (activation makes them there).
+  void make_planes(uint32_t slot, uint32_t id) {
+    uint32_t& t = tex_of[slot];
+#if UINTPTR_MAX > 0xFFFFFFFFu
+    const ViewTriangle viewed = tex_slots[slot].view;
+    triangle_texture_planes(*scene, s.view, id, t, s.lat.den, s.lat.ox, s.lat.oy, &tex_slots[slot].planes, &viewed);
+#else
+    triangle_texture_planes(*scene, s.view, id, t, s.lat.den, s.lat.ox, s.lat.oy, &tex_slots[slot].planes);
+#endif
+    t |= kTexReady;
   }
   // Samples [x0, x1] of row y of textured piece `a` in a flat colour, into out: one texture_row,
   // or for a small triangle with kWait (one sample a pixel, out = keep_surface + x0) a span sampled
@@ -846,7 +890,7 @@ struct Renderer {
     if (pending.count == 0 || pending.count == PendingSpans::kMax || tex_of[slot] != (pending.texture | kTexReady))
       return false;
     stats->shading_calls += uint64_t(x1 - x0 + 1);
-    pending.span[pending.count++] = SmallSpan{&tex_planes[slot], a.color[0], x0, x1 - x0 + 1};
+    pending.span[pending.count++] = SmallSpan{&tex_slots[slot].planes, a.color[0], x0, x1 - x0 + 1};
     return true;
   }
 #endif
@@ -1533,7 +1577,7 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
   r.keep_rgb = static_cast<uint32_t*>(arena.allocate(z.keep / 2, 8));
   if (z.acc) r.acc = static_cast<uint64_t*>(arena.allocate(z.acc, 8));
   if (z.texslots) {
-    r.tex_planes = static_cast<TexturePlanes*>(arena.allocate(round8(size_t(m) * sizeof(TexturePlanes)), 8));
+    r.tex_slots = static_cast<TexSlot*>(arena.allocate(round8(size_t(m) * sizeof(TexSlot)), 8));
     r.tex_lut = static_cast<SlotLut*>(arena.allocate(round8(size_t(m) * sizeof(SlotLut)), 8));
     r.tex_of = static_cast<uint32_t*>(arena.allocate(round8(size_t(m) * 4), 8));
   }

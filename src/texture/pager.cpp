@@ -86,24 +86,10 @@ Status TexturePager::begin(const Scene& scene, TextureSource* source, uint32_t p
   return ok_status();
 }
 
-void TexturePager::plan(uint32_t t, uint32_t last_row) {
-  if (!slots_ || t >= count_) return;
-  Slot& s = slots_[t];
-  s.last_row = s.last_row == kNone ? last_row : max_of(s.last_row, last_row);
-}
-
 void TexturePager::finish_plan() {
   if (!slots_) return;
   sort_by(free_order_, count_, [this](uint32_t t) { return slots_[t].last_row; });
   next_free_ = 0;
-}
-
-void TexturePager::add_user(uint32_t t) {
-  if (slots_ && t < count_ && slots_[t].users < 0xFFFF) ++slots_[t].users;
-}
-
-void TexturePager::drop_user(uint32_t t) {
-  if (slots_ && t < count_ && slots_[t].users > 0) --slots_[t].users;
 }
 
 void TexturePager::rows_done(uint32_t row) {

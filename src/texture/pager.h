@@ -52,7 +52,12 @@ class TexturePager {
 
   // Planning, before the first get(): texture t is used up to row `last_row` (any increasing unit the
   // renderer reports with rows_done).
-  void plan(uint32_t t, uint32_t last_row);
+  // (Inline: once a triangle.)
+  void plan(uint32_t t, uint32_t last_row) {
+    if (!slots_ || t >= count_) return;
+    Slot& s = slots_[t];
+    s.last_row = s.last_row == kNone ? last_row : max_of(s.last_row, last_row);
+  }
   void finish_plan();
 
   // The texture's bytes, reading them if needed; null for a fallback (the read failed or the texture
@@ -66,8 +71,13 @@ class TexturePager {
   }
 
   // Active triangles using t (the scanline renderer's yActiveList): used to choose evictions.
-  void add_user(uint32_t t);
-  void drop_user(uint32_t t);
+  // Inline: once a triangle in the scanline renderer's activation and compaction.
+  void add_user(uint32_t t) {
+    if (slots_ && t < count_ && slots_[t].users < 0xFFFF) ++slots_[t].users;
+  }
+  void drop_user(uint32_t t) {
+    if (slots_ && t < count_ && slots_[t].users > 0) --slots_[t].users;
+  }
   // Or the renderer's own next uses (set after begin): the texture needed last is evicted first.
   void use_next_use(const TextureNextUse* next) { next_use_ = next; }
 

@@ -158,25 +158,29 @@ struct Taps {
   uint32_t fx, fy;
 };
 
+// The taps of a texture repeating on both axes, of sizes width x height (masks mu, mv: one less).
+// Modulo 2^32: the bits kept (the fraction's 8 below bit 16, the texel's at most kMaxTextureDimBits
+// above it) lie below bit 32: the same values as in 64 bits (bilinear_taps).
+__attribute__((always_inline)) inline Taps repeat_taps(uint32_t width, uint32_t height, uint32_t mu, uint32_t mv,
+                                                       int32_t u, int32_t v) {
+  Taps k;
+  const uint32_t bu = uint32_t(u) * width - 32768u, bv = uint32_t(v) * height - 32768u;
+  k.fx = (bu >> 8) & 0xFF;
+  k.fy = (bv >> 8) & 0xFF;
+  k.xa = int32_t((bu >> 16) & mu);
+  k.xb = int32_t((uint32_t(k.xa) + 1) & mu);
+  k.ya = int32_t((bv >> 16) & mv);
+  k.yb = int32_t((uint32_t(k.ya) + 1) & mv);
+  return k;
+}
+
 // Repeat: both axes repeat (wrapping is a mask).
 template <bool Repeat>
 __attribute__((always_inline)) inline Taps bilinear_taps(const TextureTexels& t, int32_t u, int32_t v) {
-  Taps k;
-  if (Repeat) {
-    // Modulo 2^32: the bits kept (the fraction's 8 below bit 16, the texel's at most
-    // kMaxTextureDimBits above it) lie below bit 32: the same values as in 64 bits (below).
-    const uint32_t bu = uint32_t(u) * t.width - 32768u, bv = uint32_t(v) * t.height - 32768u;
-    const uint32_t mu = t.width - 1, mv = t.height - 1;
-    k.fx = (bu >> 8) & 0xFF;
-    k.fy = (bv >> 8) & 0xFF;
-    k.xa = int32_t((bu >> 16) & mu);
-    k.xb = int32_t((uint32_t(k.xa) + 1) & mu);
-    k.ya = int32_t((bv >> 16) & mv);
-    k.yb = int32_t((uint32_t(k.ya) + 1) & mv);
-    return k;
-  }
+  if (Repeat) return repeat_taps(t.width, t.height, t.width - 1u, t.height - 1u, u, v);
   // Texel space: u * width in Q16 (|u| < 2^31, width <= 2^10: below 2^41). Texel centres sit at
   // half-integers: shift by half a texel, then blend the 2x2 neighbours.
+  Taps k;
   const int64_t bu = int64_t(u) * t.width - 32768, bv = int64_t(v) * t.height - 32768;
   const int64_t x0 = bu >> 16, y0 = bv >> 16;
   k.fx = uint32_t((bu >> 8) & 0xFF);
@@ -186,6 +190,17 @@ __attribute__((always_inline)) inline Taps bilinear_taps(const TextureTexels& t,
   k.ya = wrap(y0, t.height, t.wrap_t);
   k.yb = wrap(y0 + 1, t.height, t.wrap_t);
   return k;
+}
+
+// A repeating texture's sizes and masks, worked out once for a loop's many samples (lanes_spans: the
+// masks are not made again for each span), and bilinear_taps<true>'s taps of them.
+struct RepeatSizes {
+  uint32_t width, height, mu, mv;
+};
+template <bool Repeat>
+__attribute__((always_inline)) inline Taps bilinear_taps(const RepeatSizes& t, int32_t u, int32_t v) {
+  static_assert(Repeat, "sizes of a repeating texture");
+  return repeat_taps(t.width, t.height, t.mu, t.mv, u, v);
 }
 
 // Bilinear filtering at uv of the texels fetch(x, y) gives.
@@ -199,9 +214,10 @@ __attribute__((always_inline)) inline Pixel bilinear(const TextureTexels& t, int
 
 // A small triangle's bilinear filtering (the texels filtered, then multiplied: docs/textures.md):
 // modulate_texel(bilinear(t, u, v, fetch), colour) for tint = tint_of(colour), the blend and the
-// product in lanes (the same values). Grey: the colour is grey, grey_of(tint) its multiplier.
-template <bool Repeat, bool Grey, typename Fetch>
-__attribute__((always_inline)) inline Pixel bilinear_tinted(const TextureTexels& t, int32_t u, int32_t v, Fetch fetch,
+// product in lanes (the same values). Grey: the colour is grey, grey_of(tint) its multiplier. T:
+// TextureTexels, or RepeatSizes when Repeat.
+template <bool Repeat, bool Grey, typename Fetch, typename T>
+__attribute__((always_inline)) inline Pixel bilinear_tinted(const T& t, int32_t u, int32_t v, Fetch fetch,
                                                             const Tint& tint) {
   const Taps k = bilinear_taps<Repeat>(t, u, v);
   const Spread top = lerp_spread(spread(fetch(k.xa, k.ya)), spread(fetch(k.xb, k.ya)), k.fx);
@@ -1031,15 +1047,18 @@ template <TexelFormat F, bool Repeat>
 __attribute__((always_inline)) inline void lanes_spans_as(const TextureTexels& t, const LutTexels<F, Spread>& fetch,
                                                           const SmallSpan* sp, const SmallSpan* end, int32_t y,
                                                           Pixel* row) {
+  const RepeatSizes sizes{t.width, t.height, t.width - 1u, t.height - 1u};
   for (; sp != end; ++sp) {
     const TexturePlanes& p = *sp->planes;
     const Pixel c = sp->colour;
     const uint32_t grey = c & 0xFF;
-    if (!p.boxed || grey == 0 || c != grey * 0x010101u || sp->n <= 0) {  // as bilinear_runs' grey_of
+    // A grey colour, as bilinear_runs' grey_of, but black too: modulate_spread_grey's 0 gives
+    // modulate_spread's black. (Spans have n >= 1.)
+    if (!p.boxed || c != grey * 0x010101u) {
       lanes_span<F>(t, fetch, Repeat, *sp, y, row);
       continue;
     }
-    const Tint tint = tint_of(c);
+    const Tint tint{grey, grey, grey};  // tint_of(c), its grey_of known to be `grey`
     Pixel* out = row + sp->x;
     Pixel* const stop = out + sp->n;
     const auto samples = [&](auto steps) ML_RUN_LAMBDA {
@@ -1047,7 +1066,8 @@ __attribute__((always_inline)) inline void lanes_spans_as(const TextureTexels& t
       do {
         int32_t uv[2];
         steps.next(uv);
-        *out = bilinear_tinted<Repeat, true>(t, uv[0], uv[1], fetch, tint);
+        *out = Repeat ? bilinear_tinted<true, true>(sizes, uv[0], uv[1], fetch, tint)
+                      : bilinear_tinted<false, true>(t, uv[0], uv[1], fetch, tint);
       } while (++out != stop);
     };
     if (p.sums.plain) samples(BoxSteps<true>(p));
@@ -1058,7 +1078,7 @@ __attribute__((always_inline)) inline void lanes_spans_as(const TextureTexels& t
 // looked at once.
 template <TexelFormat F>
 void lanes_spans(const TextureSampling& s, const SmallSpan* spans, uint32_t count, int32_t y, Pixel* row) {
-  const TextureTexels& t = *s.texture;
+  const TextureTexels t = *s.texture;  // a copy: the colours' stores cannot change it
   const LutTexels<F, Spread> fetch(t, s.bytes, s.lanes);
   const bool repeat = t.wrap_s == uint8_t(TextureWrap::Repeat) && t.wrap_t == uint8_t(TextureWrap::Repeat);
   if (repeat) lanes_spans_as<F, true>(t, fetch, spans, spans + count, y, row);

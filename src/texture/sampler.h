@@ -108,7 +108,7 @@ void texture_runs(TexturePlanes& planes, const TextureTexels& texture, const uin
 struct SmallSpan {
   TexturePlanes* planes;  // a small triangle's (TexturePlanes::exact)
   Pixel colour;
-  int32_t x, n;           // samples x .. x + n - 1, their colours into row[x .. x + n - 1]
+  int32_t x, n;           // samples x .. x + n - 1 (n >= 1), their colours into row[x .. x + n - 1]
 };
 struct TextureSampling {
   TexturePlanes* planes;
