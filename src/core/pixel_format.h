@@ -70,7 +70,7 @@ class PixelPacker {
   // Inline on 64-bit hosts: a tiled block's call and its saved registers cost as much as its stores
   // (2CylinderEngine at 1024x768: 18,608 blocks). On the boards one copy, optimized for size (the
   // Cortex-M0+ image's flash, as Makefile's FW_M0_SIZE_SRC).
-  ML_HOST_INLINE ML_BOARD_NOINLINE ML_BOARD_SIZE int fill_mask(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, Pixel value) {
+  ML_HOST_INLINE ML_TIGHT_FLASH_NOINLINE ML_TIGHT_FLASH_SIZE int fill_mask(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, Pixel value) {
     if (mask_bytes_ == 0) return -1;
     if (!mask_ready_ || value != mask_value_) quantize_mask_value(value);
     // A local copy: the band's bytes cannot alias it, so it stays in a register through the stores.
