@@ -461,9 +461,8 @@ void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, 
     viewed = &own;
   }
   const Triangle tri = triangle_at(scene, id);
-  int32_t uv[3][2] = {};  // vertex_uv's, the scene's coordinates looked at once
-  if (const int32_t* uvs = scene.uvs)
-    ML_HOST_UNROLL for (int i = 0; i < 3; ++i) uv[i][0] = uvs[2 * tri.v[i]], uv[i][1] = uvs[2 * tri.v[i] + 1];
+  int32_t uv[3][2] = {};  // a scene without coordinates: all 0, as vertex_uv gives
+  if (scene.uvs) ML_HOST_UNROLL for (int i = 0; i < 3; ++i) vertex_uv(scene, tri.v[i], uv[i]);  // (one test of them)
   planes_of_view(view, *viewed, uv, scene.texture_texels[texture], den, ox, oy, out);
 }
 

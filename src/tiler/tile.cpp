@@ -781,13 +781,13 @@ bool HierTiler::start_cell(const ConvexPoly& poly, int* level, int* mx, int* my)
 }
 
 // Carries a cell's new status to its ancestors (tiling may start below the root), on 64-bit hosts up to the
-// first whose bits stay as they were: the ones above it agree with it already (every mask's bits are its
-// children's status, or the mask is stale, under a covered subcell, and never tiled). The kept parent
-// (KeptParent) holds covered bits only: forgotten when one changes. 2CylinderEngine at 1024x768: most blocks a polygon
-// starts are in a parent already started, so the walk stops at the parent.
+// first whose own status stays as it was (set_in_parent): the ones above it agree with it already (every
+// mask's bits are its children's status, or the mask is stale, under a covered subcell, and never tiled).
+// The kept parent (KeptParent) holds covered bits only: forgotten when one changes. 2CylinderEngine at
+// 1024x768: most blocks a polygon starts are in a parent already started, so the walk stops at the parent.
 void HierTiler::propagate_up(int level, int mx, int my) {
   const PyramidLayout& lay = pyr_->layout;
-  for (int l = level; l > 0; --l) {
+  for (int l = level; l > 0; --l, mx >>= 3, my >>= 3) {
     bool all_covered, none_covered;
     if (l == lay.finest()) {
       const uint64_t b = pyr_->block(mx, my);
@@ -798,22 +798,29 @@ void HierTiler::propagate_up(int level, int mx, int my) {
       all_covered = m.c == kAll;
       none_covered = m.v == kAll;
     }
-    const uint64_t bit = uint64_t(1) << ((my & 7) * 8 + (mx & 7));
-    mx >>= 3;
-    my >>= 3;
-    TriageMask& parent = pyr_->mask(l - 1, mx, my);
-    if (!kKeptParent) {  // the boards walk to the root (the Cortex-M0+ image's flash)
-      if (all_covered) parent.c |= bit;
-      if (!none_covered) parent.v &= ~bit;
-      continue;
-    }
-    const uint64_t c = all_covered ? parent.c | bit : parent.c;
-    const uint64_t v = none_covered ? parent.v : parent.v & ~bit;
-    if (c == parent.c && v == parent.v) return;
-    if (c != parent.c) forget_parent();
-    parent.c = c;
-    parent.v = v;
+    if (!set_in_parent(l, mx, my, all_covered, none_covered)) return;
   }
+}
+
+// Cell (l, mx, my)'s status into its bit of the parent mask; whether the parent's own status (all covered,
+// all vacant) changed, the only thing its parent reads of it. Coverage only grows: bits are only set in
+// c and cleared in v. The boards report every step as a change (a walk to the root: the Cortex-M0+
+// image's flash).
+inline bool HierTiler::set_in_parent(int l, int mx, int my, bool all_covered, bool none_covered) {
+  const uint64_t bit = uint64_t(1) << ((my & 7) * 8 + (mx & 7));
+  TriageMask& parent = pyr_->mask(l - 1, mx >> 3, my >> 3);
+  if (!kKeptParent) {
+    if (all_covered) parent.c |= bit;
+    if (!none_covered) parent.v &= ~bit;
+    return true;
+  }
+  const bool was_covered = parent.c == kAll, was_vacant = parent.v == kAll;
+  if (all_covered && !(parent.c & bit)) {
+    forget_parent();  // a covered bit changes
+    parent.c |= bit;
+  }
+  if (!none_covered) parent.v &= ~bit;
+  return (parent.c == kAll) != was_covered || (parent.v == kAll) != was_vacant;
 }
 
 // Whether a cell's ancestor (a subcell of a coarser mask on its path) is covered: the cell's contents
@@ -947,22 +954,13 @@ ML_HOST_INLINE inline bool HierTiler::cover_block(int bx, int by, uint64_t w, Co
   return writer.write_block(w, bx << 3, by << 3);
 }
 
-// propagate_up from finest block (bx, by), now `block`, its parent's bits set here: the call only when the
-// parent's own status changes (it was all vacant, or becomes all covered), as propagate_up would stop
-// there. On 64-bit hosts (the boards' flash), for tile_small's blocks (tile_in_block's one block: slower
-// so). 2CylinderEngine at 1024x768: 68.70 M -> 68.41 M instructions a frame, 320x240 52.43 M -> 52.43 M,
-// the bundled scene 5.93 M -> 5.82 M.
+// propagate_up from finest block (bx, by), now `block` (not empty), its first step inline: the call only
+// when the parent's own status changes. On 64-bit hosts (the boards' flash), for tile_small's blocks
+// (tile_in_block's one block: slower so). 2CylinderEngine at 1024x768: 68.70 M -> 68.41 M instructions
+// a frame, 320x240 52.43 M -> 52.43 M, the bundled scene 5.93 M -> 5.82 M.
 inline void HierTiler::block_to_parent(int bx, int by, uint64_t block) {
-  const int f = pyr_->layout.finest();
-  TriageMask& parent = pyr_->mask(f - 1, bx >> 3, by >> 3);
-  const uint64_t bit = uint64_t(1) << ((by & 7) * 8 + (bx & 7));
-  const bool was_vacant = parent.v == kAll;
-  parent.v &= ~bit;  // the block has covered samples
-  if (block == kAll) {
-    if (kKeptParent) forget_parent();  // a covered bit changes
-    parent.c |= bit;
-  }
-  if (was_vacant || parent.c == kAll) propagate_up(f - 1, bx >> 3, by >> 3);
+  if (set_in_parent(pyr_->layout.finest(), bx, by, block == kAll, false))
+    propagate_up(pyr_->layout.finest() - 1, bx >> 3, by >> 3);
 }
 
 // tile_small for a box inside one finest block: one mask, no arrays.

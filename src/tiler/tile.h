@@ -297,6 +297,7 @@ class HierTiler : private BoxWitness<(UINTPTR_MAX > 0xFFFFFFFFu)>,
   bool block_uncovered(uint64_t box, int bx, int by) const;
   void propagate_up(int level, int mx, int my);
   void block_to_parent(int bx, int by, uint64_t block);
+  bool set_in_parent(int l, int mx, int my, bool all_covered, bool none_covered);
   void add_work(int level, int mx, int my);
 
   Pyramid* pyr_ = nullptr;

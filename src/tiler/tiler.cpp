@@ -197,13 +197,9 @@ class BandWriter : public CoverageWriter {
     // already. Its path calls nothing, so it saves no registers: the rest is out of line
     // (2CylinderEngine at 1024x768: 12,167 of 18,608 blocks a frame).
     if (kLeanBlocks && factor_ == 1 && shaded_ && texture_ == kNone && !colors_.smooth && !cosine_ &&
-        out_.mask_value_ready(colors_.flat)) {
-      const int stored = out_.fill_mask(mask, x, band_y + top_, colors_.flat);
-      if (stored >= 0) {
-        wrote_piece_ = true;
-        stats_->pixel_writes += uint64_t(stored);
-        return true;
-      }
+        out_.mask_value_ready(colors_.flat) && fill_flat(mask, x, band_y)) {
+      wrote_piece_ = true;
+      return true;
     }
     return write_any_block(mask, x, band_y);
   }
@@ -214,13 +210,7 @@ class BandWriter : public CoverageWriter {
     first_write();
     if (factor_ == 1 && !cosine_) {
       // One colour for the whole block: the mask goes to the band as it is, not run by run.
-      if (texture_ == kNone && !colors_.smooth) {
-        const int stored = out_.fill_mask(mask, x, band_y + top_, colors_.flat);
-        if (stored >= 0) {
-          stats_->pixel_writes += uint64_t(stored);
-          return true;
-        }
-      }
+      if (texture_ == kNone && !colors_.smooth && fill_flat(mask, x, band_y)) return true;
       if (texture_ != kNone && !colors_.smooth && write_textured_block(mask, x, band_y + top_)) return true;
       return CoverageWriter::write_block(mask, x, band_y);
     }
@@ -238,6 +228,14 @@ class BandWriter : public CoverageWriter {
     return true;
   }
 
+  // The mask in the piece's flat colour through the band's one-colour block fill, its pixels counted;
+  // false (nothing written) when the format takes the mask run by run.
+  ML_HOST_INLINE bool fill_flat(uint64_t mask, int x, int band_y) {
+    const int stored = out_.fill_mask(mask, x, band_y + top_, colors_.flat);
+    if (stored < 0) return false;
+    stats_->pixel_writes += uint64_t(stored);
+    return true;
+  }
   // Every write of a piece: it counts as drawn, and it is shaded once, on the first.
   void first_write() {
     wrote_piece_ = true;
