@@ -326,11 +326,6 @@ inline const Material& material_of(const Scene& scene, uint32_t id) {
   return scene.materials[scene.batches[triangle_at(scene, id).batch].material];
 }
 
-// A material that a MASK cutout removes entirely (base colour alpha is constant over the triangle).
-inline bool cut_out(const Material& m) {
-  return m.alpha_mode == uint8_t(AlphaMode::Mask) && m.base_color[3] < m.alpha_cutoff;
-}
-
 // False when the piece certainly covers no sample of its box: boxes of a few samples are tested
 // exactly (the edge functions of step_span), so slivers between samples never enter the ySortList.
 constexpr int32_t kSmallBoxSamples = 4;
@@ -394,15 +389,17 @@ uint32_t for_each_piece(const Scene& scene, const Setup& s, VertexCache* cache, 
   const Lattice& lat = s.lat;
   uint32_t batch = 0xFFFFFFFFu;
   const Material* material = nullptr;
+  bool hidden = false;
   for (uint32_t id = 0; id < scene.triangle_count; ++id) {
     const Triangle tri = triangle_at(scene, id);
     if (tri.batch != batch) {  // a batch's triangles are consecutive: one look-up each
       batch = tri.batch;
       material = &scene.materials[scene.batches[batch].material];
+      hidden = material_hidden(*material);
       cached = holds(cache) && shares_vertices(scene.batches[batch]);
     }
     const Material& m = *material;
-    if (cut_out(m)) { ++culled; continue; }
+    if (hidden) { ++culled; continue; }
     Vec3i world[3];
     int32_t x[3], y[3];
     vertices_world(scene, tri.batch, tri.v, world);  // (a linear read: cheaper than the cache's look-ups)

@@ -166,6 +166,24 @@ Vec3i vertex_world(const Scene& scene, uint32_t batch, uint32_t vertex);
 // section, or a texture the compiler stored as TexelFormat::None).
 const TextureTexels* material_texels(const Scene& scene, const Material& material);
 
+// Whether a material's triangles are invisible, so that both renderers leave them out in every mode:
+// a MASK whose base-colour alpha is below its cutoff, or a BLEND of alpha 0 (texel alpha is not read:
+// the base colour's alpha holds over the whole triangle). A BLEND of alpha 0 adds nothing to the
+// scanline renderer's compositing, and the tiler, which draws other MASK and BLEND materials opaque,
+// would draw it over what lies behind. One test for the opaque materials, the common case.
+inline bool material_hidden(const Material& m) {
+  return m.alpha_mode != uint8_t(AlphaMode::Opaque) &&
+         (m.alpha_mode == uint8_t(AlphaMode::Mask) ? m.base_color[3] < m.alpha_cutoff
+                                                   : m.alpha_mode == uint8_t(AlphaMode::Blend) && m.base_color[3] == 0);
+}
+
+// Whether any of the scene's materials is hidden (a frame's one look).
+inline bool has_hidden_material(const Scene& s) {
+  for (uint32_t m = 0; m < s.material_count; ++m)
+    if (material_hidden(s.materials[m])) return true;
+  return false;
+}
+
 // World positions of three vertices quantized with `batch` (a triangle's, a BSP piece's).
 void vertices_world(const Scene& scene, uint32_t batch, const uint32_t v[3], Vec3i out[3]);
 

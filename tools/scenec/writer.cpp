@@ -254,6 +254,26 @@ bool validate_mesh(const SceneMesh& mesh, std::string* error, size_t* triangle_t
   return true;
 }
 
+// One warning per material whose triangles both renderers leave out (scene.h material_hidden): an
+// exporter's alpha of 0 would otherwise show only as a part missing from the picture.
+void warn_hidden_materials(const SceneMesh& mesh, const std::vector<Material>& materials,
+                           std::vector<std::string>* warnings) {
+  for (uint32_t m = 0; m < materials.size(); ++m) {
+    if (!material_hidden(materials[m])) continue;
+    size_t triangles = 0;
+    for (const MeshNode& node : mesh.nodes)
+      for (const MeshPrimitive& prim : node.primitives)
+        if (prim.material == m) triangles += prim.triangles.size();
+    if (triangles == 0) continue;
+    const bool mask = materials[m].alpha_mode == uint8_t(AlphaMode::Mask);
+    warnings->push_back("material " + std::to_string(m) + ": " +
+                        (mask ? "alphaMode MASK with base colour alpha below its alphaCutoff"
+                              : "alphaMode BLEND with base colour alpha 0") +
+                        ": its " + std::to_string(triangles) + " triangle" + (triangles == 1 ? " is" : "s are") +
+                        " invisible and not drawn");
+  }
+}
+
 }  // namespace
 
 bool pack_scene(const SceneTables& tables, Blob* out, std::string* error) {
@@ -330,6 +350,7 @@ CompileResult compile_mesh(const SceneMesh& mesh, const CompileOptions& options)
       out.alpha_cutoff = unit_to_u8(m.alpha_cutoff);
       materials.push_back(out);
     }
+    warn_hidden_materials(mesh, materials, &result.warnings);
     std::vector<TextureRef> textures;
     for (uint32_t image : mesh.texture_images) textures.push_back(TextureRef{image, 0});
     // Texels: each texture encoded from its image (none when the image is missing), 4-aligned.
