@@ -1424,7 +1424,10 @@ struct Renderer {
       if (py >= 0) {
         st = emit_row(py, out_row);
         if (!st.ok()) return st;
-        if (s.colour) {
+        // keepObj's arrays start each pixel row empty; at l = 1 the row is only the output, every pixel
+        // written again by the next row (at 1024 wide a 4 KB memset a row: 2CylinderEngine's frame
+        // 175.9 M -> 172.7 M instructions).
+        if (s.accumulate) {
           if (varying) {
             for (int32_t x = 0; x < s.width; ++x) { keep_surface[x] = 0; keep_rgb[x] &= ~kForce; }
           } else {  // kForce is never read when surfaces have one colour
