@@ -120,31 +120,35 @@ TEST(HiddenMaterials, BothRenderersLeaveThemOutInEveryMode) {
   cam.eye = ml::Vec3i{cam.target.x + a.sphere_radius / 8, cam.target.y + a.sphere_radius / 8,
                       cam.target.z + a.sphere_radius * 6 / 5};
   cam.near = a.sphere_radius / 64;
-  const ml::ShadingMode modes[] = {ml::ShadingMode::Flat, ml::ShadingMode::Unlit, ml::ShadingMode::Ids,
-                                   ml::ShadingMode::Lines};
+  const ml::ShadingMode modes[] = {ml::ShadingMode::Flat, ml::ShadingMode::Unlit, ml::ShadingMode::Gouraud,
+                                   ml::ShadingMode::Ids, ml::ShadingMode::Lines};
   for (ml::RendererKind renderer : {ml::RendererKind::Tiler, ml::RendererKind::Scanline})
     for (ml::ShadingMode mode : modes)
-      for (int aa : {1, 2}) {
-        if (renderer == ml::RendererKind::Tiler && mode == ml::ShadingMode::Lines) continue;  // (scanline only)
-        ml::RenderOptions o;
-        o.renderer = renderer;
-        o.shading = mode;
-        o.aa = aa;
-        const testrender::Image x = testrender::render_checked(with.scene, cam, o);
-        const testrender::Image y = testrender::render_checked(without.scene, cam, o);
-        const testrender::Image z = testrender::render_checked(shown.scene, cam, o);
-        ASSERT_TRUE(x.ok && y.ok && z.ok) << x.error << y.error << z.error;
-        size_t differ = 0, in_front = 0;
-        for (size_t p = 0; p < x.pixels.size(); ++p) {
-          differ += x.pixels[p] != y.pixels[p];
-          in_front += z.pixels[p] != y.pixels[p];
+      for (int aa : {1, 2})
+        for (bool spare : {false, true}) {  // spare: with render_rows 8, the tiler's band plan
+          if (renderer == ml::RendererKind::Tiler && mode == ml::ShadingMode::Lines) continue;  // (scanline only)
+          ml::RenderOptions o;
+          o.renderer = renderer;
+          o.shading = mode;
+          o.aa = aa;
+          o.output.band_rows = 8;  // 9 bands
+          if (spare) o.output.render_rows = 8;
+          const testrender::Image x = testrender::render_checked(with.scene, cam, o, spare);
+          const testrender::Image y = testrender::render_checked(without.scene, cam, o, spare);
+          const testrender::Image z = testrender::render_checked(shown.scene, cam, o, spare);
+          ASSERT_TRUE(x.ok && y.ok && z.ok) << x.error << y.error << z.error;
+          size_t differ = 0, in_front = 0;
+          for (size_t p = 0; p < x.pixels.size(); ++p) {
+            differ += x.pixels[p] != y.pixels[p];
+            in_front += z.pixels[p] != y.pixels[p];
+          }
+          const std::string what = std::string(renderer == ml::RendererKind::Tiler ? "tiler" : "scanline") + " mode " +
+                                   std::to_string(int(mode)) + " aa " + std::to_string(aa) +
+                                   (spare ? " spare" : "");
+          EXPECT_EQ(differ, 0u) << what;
+          // Not vacuous: drawn opaque, the front triangles change much of the picture.
+          EXPECT_GT(in_front, x.pixels.size() / 5) << what;
         }
-        const std::string what = std::string(renderer == ml::RendererKind::Tiler ? "tiler" : "scanline") + " mode " +
-                                 std::to_string(int(mode)) + " aa " + std::to_string(aa);
-        EXPECT_EQ(differ, 0u) << what;
-        // Not vacuous: drawn opaque, the front triangles change much of the picture.
-        EXPECT_GT(in_front, x.pixels.size() / 5) << what;
-      }
 }
 
 }  // namespace
