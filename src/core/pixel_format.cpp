@@ -244,10 +244,6 @@ void PixelPacker::put_row(uint8_t* band, uint32_t stride, int x, int row, int fr
 
 namespace {
 
-// 64-bit hosts store 8 bytes at a time, the value repeated (the boards' stores are 32-bit, and a
-// Cortex-M0+ has no unaligned ones).
-constexpr bool kWideStores = UINTPTR_MAX > 0xFFFFFFFFu;
-
 // A block of one stored value in a format of whole bytes a pixel: the value's bytes once, copied, on
 // 64-bit hosts eight wide stores at a time, unrolled (2CylinderEngine, tiler, 1024x768: the background
 // and the large parts, 2.71 M -> 0.65 M instructions with four, 0.54 M with eight; GCC keeps a loop of
@@ -260,7 +256,7 @@ void fill_bytes(uint8_t* band, uint32_t stride, int x, int row, int w, int h, co
   for (int j = 0; j < h; ++j) {
     uint8_t* at = band + uint32_t(row + j) * stride + uint32_t(x) * kBytes;
     int i = 0;
-    if (kWideStores) {
+    if (kPixelWideStores) {
       for (; i + 8 * kPerWide <= w; i += 8 * kPerWide, at += 64) {
 #pragma GCC unroll 8
         for (int k = 0; k < 64; k += 8) memcpy(at + k, wide, 8);

@@ -43,6 +43,10 @@ void store_pixels(PixelFormat format, uint8_t* band, uint32_t stride, int x, int
 // Reads back the stored value of pixel (x, row) of a band buffer.
 uint32_t load_pixel(PixelFormat format, const uint8_t* band, uint32_t stride, int x, int row);
 
+// Runs of one stored value go out in 8-byte stores on 64-bit hosts (the boards' stores are 32-bit, and
+// a Cortex-M0+ has no unaligned ones).
+constexpr bool kPixelWideStores = UINTPTR_MAX > 0xFFFFFFFFu;
+
 // Packs pixels into a band buffer: quantizes (dithering at frame row `frame_y`) and stores.
 class PixelPacker {
  public:
@@ -72,7 +76,7 @@ class PixelPacker {
   // Cortex-M0+ image's flash, as Makefile's FW_M0_SIZE_SRC).
   ML_HOST_INLINE ML_TIGHT_FLASH_NOINLINE ML_TIGHT_FLASH_SIZE int fill_mask(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, Pixel value) {
     if (mask_bytes_ == 0) return -1;
-    if (!mask_ready_ || value != mask_value_) quantize_mask_value(value);
+    if (!mask_value_ready(value)) quantize_mask_value(value);
     // A local copy: the band's bytes cannot alias it, so it stays in a register through the stores.
     uint8_t pattern[4];
     memcpy(pattern, mask_pattern_, sizeof pattern);
@@ -110,10 +114,7 @@ class PixelPacker {
   template <int kBytes>
   [[gnu::always_inline]] static int fill_mask_bytes(uint8_t* line, uint32_t stride, uint64_t mask, const uint8_t* pattern) {
     if (mask == 0) return 0;
-    // 64-bit hosts fill a full row with 8-byte stores of the value repeated (the boards' stores are
-    // 32-bit, and a Cortex-M0+ has no unaligned ones).
-    constexpr bool kWideStores = UINTPTR_MAX > 0xFFFFFFFFu;
-    uint8_t wide[8];
+    uint8_t wide[8];  // a full row in 8-byte stores of the value repeated (kPixelWideStores)
     for (int i = 0; i < 8; i += kBytes) memcpy(wide + i, pattern, kBytes);
     // Empty rows above the first set bit are skipped at once (a small triangle's blocks hold a few rows).
     const int skip = __builtin_ctzll(mask) >> 3;
@@ -123,7 +124,7 @@ class PixelPacker {
     for (; mask != 0; mask >>= 8, line += stride) {
       uint32_t bits = uint32_t(mask) & 0xFFu;
       if (bits == 0xFFu) {
-        if (kWideStores) {
+        if (kPixelWideStores) {
           for (int i = 0; i < 8 * kBytes; i += 8) memcpy(line + i, wide, 8);
         } else {
           for (int i = 0; i < 8; ++i) memcpy(line + i * kBytes, pattern, kBytes);

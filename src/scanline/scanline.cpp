@@ -322,10 +322,6 @@ Status make_setup(const Scene& scene, const Camera& camera, const RenderOptions&
   return ok_status();
 }
 
-inline const Material& material_of(const Scene& scene, uint32_t id) {
-  return scene.materials[scene.batches[triangle_at(scene, id).batch].material];
-}
-
 // False when the piece certainly covers no sample of its box: boxes of a few samples are tested
 // exactly (the edge functions of step_span), so slivers between samples never enter the ySortList.
 constexpr int32_t kSmallBoxSamples = 4;
@@ -394,7 +390,7 @@ uint32_t for_each_piece(const Scene& scene, const Setup& s, VertexCache* cache, 
     const Triangle tri = triangle_at(scene, id);
     if (tri.batch != batch) {  // a batch's triangles are consecutive: one look-up each
       batch = tri.batch;
-      material = &scene.materials[scene.batches[batch].material];
+      material = &batch_material(scene, batch);
       hidden = material_hidden(*material);
       cached = holds(cache) && shares_vertices(scene.batches[batch]);
     }
@@ -689,7 +685,7 @@ struct Renderer {
       }
 #endif
     }
-    const Material& mat = material_of(*scene, id);
+    const Material& mat = triangle_material(*scene, id);
     if (mat.alpha_mode == uint8_t(AlphaMode::Blend) && s.colour) flags |= kBlend;
     const uint32_t depth[3] = {t.v[0].depth, t.v[1].depth, t.v[2].depth};
     depth_plane(&a, depth, s.lat);
@@ -1213,7 +1209,7 @@ struct Renderer {
       prev_id = a.id;
       mark_drawn(a);
       const Pixel col = shade(a, x, y);
-      const int64_t alpha = (a.flags & kBlend) ? material_of(*scene, a.id).base_color[3] : 255;
+      const int64_t alpha = (a.flags & kBlend) ? triangle_material(*scene, a.id).base_color[3] : 255;
       for (int c = 0; c < 3; ++c) accum[c] += t * alpha * int64_t((col >> (16 - 8 * c)) & 0xFF);
       t = (t * (255 - alpha) + 127) / 255;
     }

@@ -166,6 +166,10 @@ Vec3i vertex_world(const Scene& scene, uint32_t batch, uint32_t vertex);
 // section, or a texture the compiler stored as TexelFormat::None).
 const TextureTexels* material_texels(const Scene& scene, const Material& material);
 
+// The material batch `batch` draws with, and triangle `id`'s.
+inline const Material& batch_material(const Scene& s, uint32_t batch) { return s.materials[s.batches[batch].material]; }
+inline const Material& triangle_material(const Scene& s, uint32_t id) { return batch_material(s, triangle_at(s, id).batch); }
+
 // Whether a material's triangles are invisible, so that both renderers leave them out in every mode:
 // a MASK whose base-colour alpha is below its cutoff, or a BLEND of alpha 0 (texel alpha is not read:
 // the base colour's alpha holds over the whole triangle). A BLEND of alpha 0 adds nothing to the

@@ -306,7 +306,7 @@ const TexturePiece& texture_piece(TexturePlanes& p, int32_t x, int32_t y) {
 }
 
 uint32_t triangle_texture(const Scene& scene, uint32_t id) {
-  const Material& m = scene.materials[scene.batches[triangle_at(scene, id).batch].material];
+  const Material& m = triangle_material(scene, id);
   return material_texels(scene, m) ? m.texture : kNone;
 }
 

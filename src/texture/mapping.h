@@ -309,7 +309,7 @@ class BatchTextures {
   uint32_t of(const Scene& scene, uint32_t batch) {
     if (batch != batch_) {
       batch_ = batch;
-      const Material& m = scene.materials[scene.batches[batch].material];
+      const Material& m = batch_material(scene, batch);
       texture_ = material_texels(scene, m) ? m.texture : kNone;
     }
     return texture_;

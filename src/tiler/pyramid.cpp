@@ -44,12 +44,12 @@ bool Pyramid::allocate(const PyramidLayout& l, Arena& arena) {
   return blocks != nullptr;
 }
 
-// Bits of an 8x8 mask whose subcells (side 2^sub samples, mask origin x0, y0) lie wholly or partly
-// off screen: a subcell is wholly off when its column or its row is, partly when neither is but its
-// column or row crosses the screen edge. Columns and rows are classified once each (16 tests, not 64).
 // Pyramid::clear's masks wholly on screen stored without a test each, on 64-bit hosts.
 constexpr bool kFastClear = UINTPTR_MAX > 0xFFFFFFFFu;
 
+// Bits of an 8x8 mask whose subcells (side 2^sub samples, mask origin x0, y0) lie wholly or partly
+// off screen: a subcell is wholly off when its column or its row is, partly when neither is but its
+// column or row crosses the screen edge. Columns and rows are classified once each (16 tests, not 64).
 static void offscreen_bits(int x0, int y0, int sub, int width, int height, uint64_t* wholly,
                            uint64_t* partly) {
   const int q = 1 << sub;

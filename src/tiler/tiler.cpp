@@ -1214,10 +1214,10 @@ class TilerFrame {
     if (plan_.active()) plan_.set(index, plan_.no_band());
     return true;
   }
-  // The texture a triangle is drawn with: kNone for an invisible material's (never drawn).
-  uint32_t drawn_texture(BatchTextures& textures, uint32_t triangle) const {
-    if (hides_ && material_hidden(scene_.materials[scene_.batches[triangle_at(scene_, triangle).batch].material]))
-      return kNone;
+  // The texture a triangle is drawn with: kNone for an invisible material's (never drawn). One copy
+  // for its three calls where flash is tight.
+  ML_TIGHT_FLASH_NOINLINE uint32_t drawn_texture(BatchTextures& textures, uint32_t triangle) const {
+    if (hides_ && material_hidden(triangle_material(scene_, triangle))) return kNone;
     return textures.of_triangle(scene_, triangle);
   }
   bool projected_rows(const Vec3i world[3], int facing, int32_t* first, int32_t* last) const;
@@ -1396,13 +1396,12 @@ void TilerFrame::plan_textures() {
   BatchTextures textures;
   for (uint32_t id = 0; id < scene_.triangle_count; ++id) {
     const Triangle tri = triangle_at(scene_, id);
-    const uint32_t texture = textures.of_triangle(scene_, id);
+    const uint32_t texture = drawn_texture(textures, id);
     if (texture == kNone) continue;
     Vec3i world[3];
     vertices_world(scene_, tri.batch, tri.v, world);
     const int facing = triangle_facing(view_, world);
-    const Material& mat = scene_.materials[scene_.batches[tri.batch].material];
-    if (facing == 0 || (facing < 0 && !mat.double_sided) || material_hidden(mat)) continue;
+    if (facing == 0 || (facing < 0 && !batch_material(scene_, tri.batch).double_sided)) continue;
     int32_t first, last;
     if (!projected_rows(world, facing, &first, &last) || last < 0) continue;
     // BSP pieces are quantized split points of the triangle: a pixel of margin covers them.
@@ -1706,7 +1705,7 @@ inline bool TilerFrame::draw_piece(uint32_t index, uint16_t entry) {
   const bool cached = kVertexCache && cached_;
   const BspPiece piece = bsp_piece(scene_, index);
   const Triangle tri = triangle_at(scene_, piece.triangle);
-  const Material& mat = scene_.materials[scene_.batches[tri.batch].material];
+  const Material& mat = batch_material(scene_, tri.batch);
   // Facing is decided on the whole triangle, exactly as the scanline renderer decides it, and
   // before projecting, so back faces cost almost nothing; with the plan once a triangle. The
   // triangle's vertices are read only when needed: for the test, for a whole piece, and for a split

@@ -187,7 +187,7 @@ ml::Status zbuffer_render(const ml::Scene& scene, const ml::Camera& camera, ml::
   st->buffer_bytes = zb.bytes() + cache.size() * sizeof(ProjectedVertex) + done.size();
   for (uint32_t id = 0; id < scene.triangle_count; ++id) {
     const ml::Triangle t = ml::triangle_at(scene, id);
-    const bool double_sided = scene.materials[scene.batches[t.batch].material].double_sided != 0;
+    const bool double_sided = ml::batch_material(scene, t.batch).double_sided != 0;
     ProjectedVertex p[3];
     bool all_ok = true;
     for (int k = 0; k < 3; ++k) {

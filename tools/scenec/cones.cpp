@@ -38,7 +38,7 @@ std::vector<TriangleNormal> triangle_normals(const Scene& scene) {
     const Triangle tri = triangle_at(scene, t);
     TriangleNormal& o = out[t];
     o.v0 = w[0];
-    o.double_sided = scene.materials[scene.batches[tri.batch].material].double_sided != 0;
+    o.double_sided = batch_material(scene, tri.batch).double_sided != 0;
     const double e1[3] = {double(w[1].x) - w[0].x, double(w[1].y) - w[0].y, double(w[1].z) - w[0].z};
     const double e2[3] = {double(w[2].x) - w[0].x, double(w[2].y) - w[0].y, double(w[2].z) - w[0].z};
     const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
