@@ -121,7 +121,7 @@ static int64_t edge_value(int32_t px, int32_t py, int32_t qx, int32_t qy, const 
 
 void start_span(ActiveTri* t, const Lattice& lat, int32_t y) {
   [[maybe_unused]] const int64_t row = int64_t(y) * kSubpixelOne + lat.oy;
-  for (int i = 0; i < 3; ++i) {
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
     const int j = i == 2 ? 0 : i + 1;
     // A left edge (E grows with X) starts at the box's left side, a right edge at its right side.
     t->edge_x[i] = int16_t(t->vy[i] > t->vy[j] ? t->box_x0 : t->box_x1);
@@ -227,7 +227,7 @@ void depth_plane(ActiveTri* t, const uint32_t depth[3], const Lattice& lat) {
   //   z0 = sum d_j E_opp(j)(X=0,Y=0) * den, gx = sum d_j a_opp(j) * 256, gy = sum d_j b_opp(j) * 256,
   // all over area2 * den, times 2^16 (Q16).
   int64_t d[3], cz[3], ca[3], cb[3];
-  for (int j = 0; j < 3; ++j) {
+  ML_HOST_UNROLL for (int j = 0; j < 3; ++j) {
     const EdgeFunction e = opposite_plane(*t, j);
     d[j] = depth[j];
     ca[j] = e.a;
@@ -328,7 +328,7 @@ constexpr int32_t kSmallBoxSamples = 4;
 bool may_cover(const ScreenTriangle& t, const Lattice& lat, const LatticeBox& b) {
   if ((b.x1 - b.x0 + 1) * (b.y1 - b.y0 + 1) > kSmallBoxSamples) return true;
   EdgeFunction f[3];
-  for (int i = 0; i < 3; ++i) {
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
     const int j = i == 2 ? 0 : i + 1;
     f[i] = edge_function(t.v[i].x, t.v[i].y, t.v[j].x, t.v[j].y);
   }
@@ -667,7 +667,7 @@ struct Renderer {
     if (!kKeepView) slot = take_slot();
     ActiveTri& a = act[slot];
     uint8_t flags = 0;
-    for (int i = 0; i < 3; ++i) {
+    ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
       a.vx[i] = t.v[i].x;
       a.vy[i] = t.v[i].y;
     }
@@ -704,7 +704,7 @@ struct Renderer {
     uint8_t perm = 0;
     for (int j = 0; j < 3 && perm != 0xFF; ++j) {
       int which = -1;
-      for (int c = 0; c < 3; ++c)
+      ML_HOST_UNROLL for (int c = 0; c < 3; ++c)
         if (t.v[j].weight[c] == kWeightOne) which = c;
       if (which < 0) perm = 0xFF;
       else perm = uint8_t(perm | (which << (2 * j)));
@@ -714,7 +714,7 @@ struct Renderer {
     if (perm == 0xFF && s.colour) {
       TriangleColors colors;
       shade_triangle(*scene, light, opt->shading, id, t.front_facing, &colors);
-      for (int j = 0; j < 3; ++j) a.color[j] = colors.smooth ? blend_vertex_color(colors, t.v[j]) : colors.flat;
+      ML_HOST_UNROLL for (int j = 0; j < 3; ++j) a.color[j] = colors.smooth ? blend_vertex_color(colors, t.v[j]) : colors.flat;
       a.flags |= kColorsReady;
       if (colors.smooth) a.flags |= kSmooth;
     }

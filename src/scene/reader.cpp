@@ -477,7 +477,7 @@ const TextureTexels* material_texels(const Scene& scene, const Material& materia
 }
 
 void vertices_world(const Scene& scene, uint32_t batch, const uint32_t v[3], Vec3i out[3]) {
-  for (int k = 0; k < 3; ++k) out[k] = vertex_world(scene, batch, v[k]);
+  ML_HOST_UNROLL for (int k = 0; k < 3; ++k) out[k] = vertex_world(scene, batch, v[k]);
 }
 
 void triangle_world(const Scene& scene, uint32_t id, Vec3i out[3]) {

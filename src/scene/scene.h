@@ -6,6 +6,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "core/build.h"
 #include "core/fixed.h"
 #include "core/status.h"
 #include "scene/blob_format.h"
@@ -98,7 +99,7 @@ inline BspNode node(const Scene& s, uint32_t i) {
   const PackedBspNode<Index>* nodes = static_cast<const PackedBspNode<Index>*>(s.bsp_nodes);
   const PackedBspNode<Index>& n = nodes[i];
   BspNode out;
-  for (int a = 0; a < 3; ++a) out.normal[a] = int32_t(n.normal[a]) * 65536;  // Q1.14 -> Q1.30
+  ML_HOST_UNROLL for (int a = 0; a < 3; ++a) out.normal[a] = int32_t(n.normal[a]) * 65536;  // Q1.14 -> Q1.30
   out.d = int64_t(n.d) * (int64_t(1) << 18);                                  // Q12 -> Q30
   const uint32_t second = n.first_child + ((n.children & kFrontChild) ? 1u : 0u);
   out.front = (n.children & kFrontChild) ? uint32_t(n.first_child) : kNone;
@@ -113,7 +114,7 @@ template <typename Index>
 inline void node_box(const Scene& s, uint32_t i, BspNode* out) {
   const PackedBspNode<Index>& n = static_cast<const PackedBspNode<Index>*>(s.bsp_nodes)[i];
   const int cell = s.bounds_shift;
-  for (int a = 0; a < 3; ++a) {
+  ML_HOST_UNROLL for (int a = 0; a < 3; ++a) {
     out->bounds_min[a] = s.info->bounds_min[a] + int32_t(uint32_t(n.cells[a]) << cell);
     out->bounds_max[a] = s.info->bounds_min[a] + int32_t((uint32_t(n.cells[3 + a]) + 1) << cell) - 1;
   }

@@ -435,7 +435,7 @@ void poly_from_setup(const TriangleSetup& setup, ConvexPoly* out) {
 
 void poly_edges(const ScreenTriangle& tri, ConvexPoly* out) {
   out->n = 3;
-  for (int i = 0; i < 3; ++i) {
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
     const ScreenVertex& p = tri.v[i];
     const ScreenVertex& q = tri.v[i == 2 ? 0 : i + 1];
     out->edge[i] = edge_function(p.x, p.y, q.x, q.y);

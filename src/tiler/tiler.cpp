@@ -557,7 +557,7 @@ class BandWriter : public CoverageWriter {
 // tiled as it is. The box grows by one pixel for the sliver.
 bool is_split_piece(const BspPiece& piece, const Triangle& tri) {
   if (piece.v[0] == tri.v[0] && piece.v[1] == tri.v[1] && piece.v[2] == tri.v[2]) return false;  // most pieces
-  for (int i = 0; i < 3; ++i)
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i)
     if (piece.v[i] != tri.v[0] && piece.v[i] != tri.v[1] && piece.v[i] != tri.v[2]) return true;
   return false;
 }
@@ -577,18 +577,18 @@ void clip_to_triangle(const View& view, const ScreenTriangle& part, const Convex
   // edge's line: |E_k| <= tol (|a| + |b|) bounds the distance by tol. Each |E_k| at each corner of the
   // part, and each |a| + |b|, once.
   int64_t off[3][3], norm[3];
-  for (int k = 0; k < 3; ++k) {
+  ML_HOST_UNROLL for (int k = 0; k < 3; ++k) {
     const EdgeFunction& e = whole.edge[k];
     norm[k] = abs64(e.a) + abs64(e.b);
-    for (int i = 0; i < 3; ++i) off[k][i] = abs64(e.at(part.v[i].x, part.v[i].y));
+    ML_HOST_UNROLL for (int i = 0; i < 3; ++i) off[k][i] = abs64(e.at(part.v[i].x, part.v[i].y));
   }
   int along[3];
   int used = 0;  // bit k: some piece edge runs along triangle edge k
-  for (int i = 0; i < 3; ++i) {
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
     along[i] = -1;
     const int i1 = i == 2 ? 0 : i + 1;
     const int64_t tol = split_tolerance(view, part.v[i], part.v[i1]);
-    for (int k = 0; k < 3; ++k) {
+    ML_HOST_UNROLL for (int k = 0; k < 3; ++k) {
       const int64_t reach = tol * norm[k];
       if (off[k][i] > reach || off[k][i1] > reach) continue;
       if (along[i] >= 0 || (used >> k & 1)) return;  // ambiguous: keep the piece as it is
@@ -599,9 +599,9 @@ void clip_to_triangle(const View& view, const ScreenTriangle& part, const Convex
   if (used == 0 || used == 7) return;  // nothing on the boundary, or the whole triangle
   // In place: the piece edges kept move down (to a slot no later than their own), the triangle's follow.
   int n = 0;
-  for (int i = 0; i < 3; ++i)
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i)
     if (along[i] < 0) poly->edge[n++] = poly->edge[i];
-  for (int k = 0; k < 3; ++k) poly->edge[n++] = whole.edge[k];
+  ML_HOST_UNROLL for (int k = 0; k < 3; ++k) poly->edge[n++] = whole.edge[k];
   poly->n = n;
   poly->min_x = max_of(poly->min_x - grow, max_of(whole.min_x, 0));
   poly->min_y = max_of(poly->min_y - grow, max_of(whole.min_y, 0));
@@ -642,11 +642,11 @@ bool view_box(const View& view, const BspNode& node, ViewBox* out) {
   const Vec3i* rows[3] = {&view.right, &view.down, &view.forward};
   const int64_t eye[3] = {view.eye.x, view.eye.y, view.eye.z};
   int64_t mid2[3], ext[3];  // |values| < 2^26: corners and eye below 2^24
-  for (int a = 0; a < 3; ++a) {
+  ML_HOST_UNROLL for (int a = 0; a < 3; ++a) {
     mid2[a] = int64_t(node.bounds_min[a]) + node.bounds_max[a] - 2 * eye[a];
     ext[a] = int64_t(node.bounds_max[a]) - node.bounds_min[a];
   }
-  for (int r = 0; r < 3; ++r) {
+  ML_HOST_UNROLL for (int r = 0; r < 3; ++r) {
     const int64_t m[3] = {rows[r]->x, rows[r]->y, rows[r]->z};  // Q1.30: products below 2^56, sums 2^58
     const int64_t mid = m[0] * mid2[0] + m[1] * mid2[1] + m[2] * mid2[2];
     const int64_t half = abs64(m[0]) * ext[0] + abs64(m[1]) * ext[1] + abs64(m[2]) * ext[2];
@@ -724,7 +724,7 @@ bool corner_rect(const View& view, const BspNode& node, int32_t* x0, int32_t* y0
   constexpr int shift = kUnitBits - kViewFractionBits;
   const int64_t eye[3] = {view.eye.x, view.eye.y, view.eye.z};
   int64_t low[3], ext[3];  // |values| < 2^26: corners and eye below 2^24
-  for (int a = 0; a < 3; ++a) {
+  ML_HOST_UNROLL for (int a = 0; a < 3; ++a) {
     low[a] = int64_t(node.bounds_min[a]) - kCornerMarginWorld - eye[a];
     ext[a] = int64_t(node.bounds_max[a]) - node.bounds_min[a] + 2 * kCornerMarginWorld;
   }

@@ -10,6 +10,7 @@
 #include <stdint.h>
 
 #include "core/arena.h"
+#include "core/build.h"
 #include "scene/scene.h"
 #include "view/view.h"
 
@@ -55,12 +56,12 @@ class VertexCache {
 
   // The world positions of vertices v[0..2] read with `batch`: vertices_world's.
   void world(uint32_t batch, const uint32_t v[3], Vec3i out[3]) {
-    for (int i = 0; i < 3; ++i) out[i] = lookup(batch, v[i], false).world;
+    ML_HOST_UNROLL for (int i = 0; i < 3; ++i) out[i] = lookup(batch, v[i], false).world;
   }
   // Their view_triangle.
   void view(uint32_t batch, const uint32_t v[3], ViewTriangle* out) {
     bool unclipped = true;
-    for (int i = 0; i < 3; ++i)
+    ML_HOST_UNROLL for (int i = 0; i < 3; ++i)
       if (!put_view_vertex(lookup(batch, v[i], true).view, i, out)) unclipped = false;
     out->unclipped = unclipped;
   }

@@ -98,7 +98,7 @@ void set_screen_vertex(const View& view, int32_t z, const int32_t weight[3], int
   s->y = int32_t(view.center_y + offset_y);
   s->z = z;
   s->depth = depth ? uint32_t(udiv64(uint64_t(view.near) << kDepthBits, uint64_t(z))) : 0;
-  for (int k = 0; k < 3; ++k) s->weight[k] = weight[k];
+  ML_HOST_UNROLL for (int k = 0; k < 3; ++k) s->weight[k] = weight[k];
 }
 
 ScreenVertex make_screen_vertex(const View& view, const ClipVertex& c, int64_t offset_x, int64_t offset_y,
@@ -276,7 +276,7 @@ void view_vertex(const View& view, const Vec3i& world, ViewVertex* out) {
 // Unclipped when all three vertices are: the common case.
 void view_triangle(const View& view, const Vec3i world[3], ViewTriangle* out) {
   bool unclipped = true;
-  for (int i = 0; i < 3; ++i)
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i)
     if (!transform_vertex(view, world[i], &out->p[i], &out->ox[i], &out->oy[i])) unclipped = false;
   out->unclipped = unclipped;
 }
@@ -294,7 +294,7 @@ int project_triangle(const View& view, const ViewTriangle& tri, int facing, Scre
   if (facing == 0) return 0;  // seen edge-on: covers nothing
   static constexpr int32_t kVertexWeights[3][3] = {{kWeightOne, 0, 0}, {0, kWeightOne, 0}, {0, 0, kWeightOne}};
   if (tri.unclipped) {  // straight into the output: no clip polygon
-    for (int i = 0; i < 3; ++i)
+    ML_HOST_UNROLL for (int i = 0; i < 3; ++i)
       set_screen_vertex(view, tri.p[i].z, kVertexWeights[i], tri.ox[i], tri.oy[i], depths, &out[0].v[i]);
     out[0].front_facing = facing > 0;
     return orient(&out[0]) ? 1 : 0;
@@ -343,7 +343,7 @@ inline bool outside_rows(const View& view, const Vec3i p[3], int32_t row0, int32
   const int64_t top = int64_t(view.center_y) - int64_t(row0) * kSubpixelOne;
   const int64_t bottom = int64_t(view.center_y) - (int64_t(row1) + 1) * kSubpixelOne;
   bool above = true, below = true;
-  for (int i = 0; i < 3; ++i) {
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
     const int64_t z = p[i].z;
     if (z < view.near) return false;  // clipped: the projection is not the vertices' hull
     const int64_t fy = view.focal_q8 * p[i].y;
@@ -382,7 +382,7 @@ bool view_row_span(const View& view, const Vec3i p[3], int64_t* first, int64_t* 
   // below row1 when every Y_i > (row1 + 1) * 256, i.e. ceil(min Y) - 1 >= (row1 + 1) * 256. z_i is
   // below 2^31: one 64-by-32-bit division a vertex (core/fixed.h).
   int64_t floor_max = INT64_MIN, ceil_min = INT64_MAX;
-  for (int i = 0; i < 3; ++i) {
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
     const int64_t z = p[i].z;
     if (z < view.near) return false;
     const int64_t fy = view.focal_q8 * p[i].y;

@@ -20,6 +20,7 @@
 #pragma once
 #include <stdint.h>
 
+#include "core/build.h"
 #include "core/fixed.h"
 #include "core/status.h"
 
@@ -131,7 +132,7 @@ int project_triangle(const View& view, const ViewTriangle& tri, int facing, Scre
 // before it orders them (area2 > 0) and without depths or weights: a cheap first look for callers that
 // may drop the triangle.
 inline void unclipped_positions(const View& view, const ViewTriangle& t, int32_t x[3], int32_t y[3]) {
-  for (int i = 0; i < 3; ++i) {
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
     x[i] = int32_t(view.center_x + t.ox[i]);
     y[i] = int32_t(view.center_y + t.oy[i]);
   }
