@@ -16,6 +16,7 @@
 #pragma once
 #include <stdint.h>
 
+#include "core/build.h"
 #include "core/options.h"
 #include "tiler/pyramid.h"
 #include "view/view.h"
@@ -50,31 +51,49 @@ void poly_from_setup(const TriangleSetup& setup, ConvexPoly* out);
 void poly_in_samples(const ScreenTriangle& tri, const TriangleSetup& setup, int factor, int width,
                      int height, ConvexPoly* out, bool jittered = false);
 
+// The sample lattice of sample_box (factor samples a pixel per axis: 1, 2, 4 or 8; jittered or
+// regular) over a screen of width x height pixels, worked out once for the many boxes of a frame.
+struct SampleGrid {
+  int bits = kSubpixelBits;  // the sample pitch, 2^bits subpixels
+  int32_t half = 0;          // a sample centre's offset in its cell (jittered: 0, anywhere in the cell)
+  bool jittered = false;
+  int32_t last_x = -1, last_y = -1;  // the screen's last sample column and row
+};
+inline SampleGrid sample_grid(int factor, int width, int height, bool jittered) {
+  SampleGrid g;
+  g.bits = kSubpixelBits - (factor == 8 ? 3 : factor == 4 ? 2 : factor == 2 ? 1 : 0);
+  g.half = jittered ? 0 : (int32_t(1) << g.bits) / 2;
+  g.jittered = jittered;
+  g.last_x = width * factor - 1;
+  g.last_y = height * factor - 1;
+  return g;
+}
+
 // The box of poly_in_samples alone, from a triangle's extent in subpixels (its vertices' smallest and
-// largest x and y, |values| < 2^30: projected vertices lie inside the guard band): the samples it can
-// cover, clipped to the screen; empty when min > max. 32-bit arithmetic: inline, it costs a board
+// largest x and y, |values| < 2^30: projected vertices lie inside the guard band): the samples of grid g
+// it can cover, clipped to the screen; empty when min > max. 32-bit arithmetic: inline, it costs a board
 // little code.
-inline void sample_box(int32_t min_x, int32_t min_y, int32_t max_x, int32_t max_y, int factor, int width, int height,
-                       bool jittered, ConvexPoly* out) {
+ML_TIGHT_FLASH_NOINLINE inline void grid_box(const SampleGrid& g, int32_t min_x, int32_t min_y, int32_t max_x, int32_t max_y, ConvexPoly* out) {
   // Sample centres s * pitch + pitch / 2 inside [min, max] (setup_triangle's pixel box when factor is
   // 1); jittered samples anywhere in their cells [s * pitch, (s + 1) * pitch). The pitch is a power of
   // two: floors are arithmetic shifts.
-  const int bits = kSubpixelBits - (factor == 8 ? 3 : factor == 4 ? 2 : factor == 2 ? 1 : 0);
-  const int32_t half = jittered ? 0 : (int32_t(1) << bits) / 2;
-  if (jittered) {
-    out->min_x = max_of<int32_t>(0, min_x >> bits);
-    out->min_y = max_of<int32_t>(0, min_y >> bits);
+  if (g.jittered) {
+    out->min_x = max_of<int32_t>(0, min_x >> g.bits);
+    out->min_y = max_of<int32_t>(0, min_y >> g.bits);
   } else {
-    out->min_x = max_of<int32_t>(0, -((half - min_x) >> bits));
-    out->min_y = max_of<int32_t>(0, -((half - min_y) >> bits));
+    out->min_x = max_of<int32_t>(0, -((g.half - min_x) >> g.bits));
+    out->min_y = max_of<int32_t>(0, -((g.half - min_y) >> g.bits));
   }
-  out->max_x = min_of<int32_t>(width * factor - 1, (max_x - half) >> bits);
-  out->max_y = min_of<int32_t>(height * factor - 1, (max_y - half) >> bits);
+  out->max_x = min_of<int32_t>(g.last_x, (max_x - g.half) >> g.bits);
+  out->max_y = min_of<int32_t>(g.last_y, (max_y - g.half) >> g.bits);
+}
+inline void sample_box(int32_t min_x, int32_t min_y, int32_t max_x, int32_t max_y, int factor, int width, int height,
+                       bool jittered, ConvexPoly* out) {
+  grid_box(sample_grid(factor, width, height, jittered), min_x, min_y, max_x, max_y, out);
 }
 
-// sample_box of a screen triangle's vertices (poly_in_samples's box).
-inline void triangle_sample_box(const ScreenTriangle& tri, int factor, int width, int height, bool jittered,
-                                ConvexPoly* out) {
+// grid_box of a screen triangle's vertices (poly_in_samples's box).
+ML_TIGHT_FLASH_NOINLINE inline void triangle_grid_box(const SampleGrid& g, const ScreenTriangle& tri, ConvexPoly* out) {
   int32_t min_x = tri.v[0].x, max_x = min_x, min_y = tri.v[0].y, max_y = min_y;
   for (int i = 1; i < 3; ++i) {
     min_x = min_of(min_x, tri.v[i].x);
@@ -82,7 +101,11 @@ inline void triangle_sample_box(const ScreenTriangle& tri, int factor, int width
     min_y = min_of(min_y, tri.v[i].y);
     max_y = max_of(max_y, tri.v[i].y);
   }
-  sample_box(min_x, min_y, max_x, max_y, factor, width, height, jittered, out);
+  grid_box(g, min_x, min_y, max_x, max_y, out);
+}
+inline void triangle_sample_box(const ScreenTriangle& tri, int factor, int width, int height, bool jittered,
+                                ConvexPoly* out) {
+  triangle_grid_box(sample_grid(factor, width, height, jittered), tri, out);
 }
 
 // The edges of poly_in_samples alone (setup_triangle's): a caller that rejects most polygons by their

@@ -1255,6 +1255,7 @@ class TilerFrame {
   Pyramid pyramid_;
   HierTiler tiler_;
   BandRows band_;
+  SampleGrid grid_;  // the pieces' sample boxes' lattice (part_box, unclipped_sample_box)
   BandPlan plan_;
   NodeRects node_rects_;
   LastCornerRect last_rect_;
@@ -1298,6 +1299,7 @@ Status TilerFrame::run(Arena& arena, Sink& sink) {
   writer.use_textures(&pager_, &view_, segment_rows, &plane_cache_);
   writer_ = &writer;
   band_.factor = sample_factor(options_);
+  grid_ = sample_grid(band_.factor, camera_.width, camera_.height, jittered(options_));
   if (jittered(options_)) {
     jitter_table_ = arena.allocate_array<uint8_t>(jitter_table_bytes(band_.factor));
     if (!jitter_table_) return finish(error(StatusCode::ArenaTooSmall, "arena too small", need), arena);
@@ -1603,8 +1605,7 @@ inline bool TilerFrame::unclipped_sample_box(const ViewTriangle& view, ConvexPol
     max_y = max_of(max_y, int32_t(view.oy[i]));
   }
   const int32_t cx = int32_t(view_.center_x), cy = int32_t(view_.center_y);
-  sample_box(cx + min_x, cy + min_y, cx + max_x, cy + max_y, band_.factor, camera_.width, camera_.height,
-             jittered(options_), box);
+  grid_box(grid_, cx + min_x, cy + min_y, cx + max_x, cy + max_y, box);
   return box->min_x <= box->max_x && box->min_y <= box->max_y;
 }
 
@@ -1628,7 +1629,7 @@ uint16_t TilerFrame::plan_bands(const ViewTriangle& view) const {
 }
 
 void TilerFrame::part_box(const ScreenTriangle& part, ConvexPoly* poly) const {
-  triangle_sample_box(part, band_.factor, camera_.width, camera_.height, jittered(options_), poly);
+  triangle_grid_box(grid_, part, poly);
 }
 
 template <class WholeWorld>
