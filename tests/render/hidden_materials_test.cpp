@@ -3,10 +3,12 @@
 // renders exactly as the same scene without them.
 #include <gtest/gtest.h>
 
+#include <initializer_list>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "platform/host/image_sink.h"
 #include "platform/host/scene_load.h"
 #include "render/render.h"
 #include "scene/scene.h"
@@ -45,13 +47,25 @@ ml::CompileResult scene_with(Front front) {
     materials[m].base_color[1] = 0.1;
     materials[m].double_sided = true;
   }
+  for (size_t m = 2; m < materials.size(); ++m) materials[m].texture = 0;  // textured: their texels unread
   if (front == Front::Hidden) {
     materials[2].alpha_mode = ml::AlphaMode::Mask;
     materials[2].base_color[3] = 0.3;
     materials[3].alpha_mode = ml::AlphaMode::Blend;
     materials[3].base_color[3] = 0;
   }
+  const bool textured = materials.size() > 2;
   ml::SceneMesh mesh = meshtest::one_node_mesh(std::move(materials), "hidden");
+  if (textured) {  // a 4x4 checker of red and blue
+    ml::MeshImage checker;
+    checker.width = checker.height = 4;
+    for (int i = 0; i < 16; ++i)
+      checker.rgba.insert(checker.rgba.end(), ((i ^ (i >> 2)) & 1) ? std::initializer_list<uint8_t>{230, 40, 40, 255}
+                                                                  : std::initializer_list<uint8_t>{40, 40, 230, 255});
+    mesh.images.push_back(checker);
+    mesh.texture_images.push_back(0);
+    mesh.texture_samplers.push_back(ml::MeshSampler{});
+  }
   std::mt19937 rng(17);
   std::uniform_real_distribution<double> xy(-4, 4), in_slab(0, 0.8), unit(0, 1);
   const auto add = [&](size_t primitive, double z) {
@@ -60,6 +74,10 @@ ml::CompileResult scene_with(Front front) {
       vertex.position[0] = xy(rng);
       vertex.position[1] = xy(rng);
       vertex.position[2] = z + in_slab(rng) * 0.03;
+    }
+    for (int i = 0; i < 3; ++i) {  // the checker twice across each triangle (the front ones' texture)
+      v[i].uv[0] = i == 1 ? 2 : 0;
+      v[i].uv[1] = i == 2 ? 2 : 0;
     }
     meshtest::add_triangle(&mesh, primitive, v);
   };
@@ -102,6 +120,42 @@ TEST(HiddenMaterials, TheCompilerWarnsOncePerMaterial) {
     ASSERT_TRUE(c.ok) << c.error;
     EXPECT_TRUE(c.warnings.empty()) << c.warnings[0];
   }
+}
+
+// The texture only the invisible triangles use is never loaded (both renderers' texture plans and
+// pagers leave them out); drawn opaque, the same triangles load it.
+TEST(HiddenMaterials, TheirTextureIsNeverRead) {
+  mlhost::LoadedScene with, shown;
+  ASSERT_TRUE(load(Front::Hidden, &with));
+  ASSERT_TRUE(load(Front::Shown, &shown));
+  ASSERT_EQ(with.scene.texture_texels_count, 1u);
+  ASSERT_NE(with.scene.texture_texels[0].format, uint8_t(ml::TexelFormat::None));
+  const ml::SceneInfo& a = *with.scene.info;
+  ml::Camera cam = ml::frame_sphere(ml::Vec3i{a.sphere_center[0], a.sphere_center[1], a.sphere_center[2]},
+                                    a.sphere_radius, 96, 72, 45 << 16);
+  for (ml::RendererKind renderer : {ml::RendererKind::Tiler, ml::RendererKind::Scanline})
+    for (int rows : {0, 8}) {  // render_rows: the whole frame at once (with the spare arena), a band at a time
+      ml::RenderOptions o;
+      o.renderer = renderer;
+      o.output.band_rows = 8;
+      o.output.render_rows = rows;
+      for (const mlhost::LoadedScene* s : {&with, &shown}) {
+        const size_t bytes = ml::render_arena_bytes(s->scene, cam, o) + ml::render_spare_bytes(s->scene, cam, o);
+        std::vector<uint64_t> storage(bytes / 8 + 1);
+        ml::Arena arena(storage.data(), bytes);
+        mlhost::ImageSink sink;
+        ml::Stats stats;
+        ASSERT_TRUE(ml::render(s->scene, cam, o, arena, sink, &stats).ok());
+        const std::string what = std::string(renderer == ml::RendererKind::Tiler ? "tiler" : "scanline") +
+                                 " rows " + std::to_string(rows) + (s == &with ? " hidden" : " shown");
+        if (s == &with) {
+          EXPECT_EQ(stats.texture_loads, 0u) << what;
+          EXPECT_EQ(stats.texture_bytes_loaded, 0u) << what;
+        } else {
+          EXPECT_GE(stats.texture_loads, 1u) << what;  // not vacuous: drawn, the texture is read
+        }
+      }
+    }
 }
 
 TEST(HiddenMaterials, BothRenderersLeaveThemOutInEveryMode) {
