@@ -714,7 +714,8 @@ struct Renderer {
     if (perm == 0xFF && s.colour) {
       TriangleColors colors;
       shade_triangle(*scene, light, opt->shading, id, t.front_facing, &colors);
-      ML_HOST_UNROLL for (int j = 0; j < 3; ++j) a.color[j] = colors.smooth ? blend_vertex_color(colors, t.v[j]) : colors.flat;
+      ML_HOST_UNROLL for (int j = 0; j < 3; ++j)
+        a.color[j] = colors.smooth ? blend_vertex_color(colors, t.v[j]) : colors.flat;
       a.flags |= kColorsReady;
       if (colors.smooth) a.flags |= kSmooth;
     }
