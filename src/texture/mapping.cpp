@@ -32,7 +32,7 @@ bool scaled_le(uint64_t l, int el, uint64_t r, int er) {
 __attribute__((always_inline)) inline int segment_bits(const TexturePlanes& p, const ExactUv& s, const ExactUv& e) {
   if (!s.clean || !e.clean || (s.denom < 0) != (e.denom < 0)) return 0;
   uint64_t du = 0;  // the larger change, in Q16 texels (< 2^42)
-  ML_HOST_UNROLL for (int k = 0; k < 2; ++k)
+  for (int k = 0; k < 2; ++k)
     du = max_of(du, magnitude(int64_t(e.uv[k]) - s.uv[k]) << p.size_bits[k]);
   const uint64_t d0 = magnitude(s.denom), d1 = magnitude(e.denom);
   const uint64_t dd = d0 > d1 ? d0 - d1 : d1 - d0;
@@ -91,7 +91,7 @@ namespace {
 // forward of its world vertices).
 void planes_from_view(const View& view, const Vec3i viewed[3], const int32_t uv[3][2], int32_t den, int32_t ox,
                       int32_t oy, uint32_t width, uint32_t height, int error_bits, TexturePlanes* out) {
-  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
+  for (int i = 0; i < 3; ++i) {
     out->uv[i][0] = uv[i][0];
     out->uv[i][1] = uv[i][1];
   }
@@ -111,7 +111,7 @@ void planes_from_view(const View& view, const Vec3i viewed[3], const int32_t uv[
   // d = (256 X + ox - cx, 256 Y + oy - cy, focal), all scaled by den.
   const int64_t dx = ox - int64_t(view.center_x) * den, dy = oy - int64_t(view.center_y) * den;
   const int64_t fz = view.focal_q8 * den;  // < 2^30
-  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
+  for (int i = 0; i < 3; ++i) {
     const int64_t x = c[i][0] >> shift, y = c[i][1] >> shift, z = c[i][2] >> shift;
     out->a[i] = x * kSubpixelOne;
     out->b[i] = y * kSubpixelOne;
@@ -228,20 +228,20 @@ void exact_texture_uv_looped(const TexturePlanes& p, int32_t x, int32_t y, Exact
   int64_t e[3];
   uint64_t largest = 0;
   out->denom = 0;
-  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
+  for (int i = 0; i < 3; ++i) {
     e[i] = p.a[i] * x + p.b[i] * y + p.k[i];
     out->denom += e[i];  // |e_i| < 2^61: the sum fits
     largest |= magnitude(e[i]);
   }
   const int shift = max_of(0, bit_length(largest) - kTextureWeightBits);
   int64_t total = 0;
-  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
+  for (int i = 0; i < 3; ++i) {
     e[i] >>= shift;
     total += e[i];
   }
   if (total < 0) {
     total = -total;
-    ML_HOST_UNROLL for (int i = 0; i < 3; ++i) e[i] = -e[i];
+    for (int i = 0; i < 3; ++i) e[i] = -e[i];
   }
   if (total == 0) {  // the ray grazes the triangle's plane: any vertex will do
     out->uv[0] = p.uv[0][0];
@@ -250,7 +250,7 @@ void exact_texture_uv_looped(const TexturePlanes& p, int32_t x, int32_t y, Exact
     return;
   }
   out->clean = out->denom != 0;
-  ML_HOST_UNROLL for (int k = 0; k < 2; ++k) {
+  for (int k = 0; k < 2; ++k) {
     // |uv| < 2^31 and |e| < 2^28: the sum stays below 2^61; total < 2^30 divides in 32 bits.
     const int64_t sum = p.uv[0][k] * e[0] + p.uv[1][k] * e[1] + p.uv[2][k] * e[2];
     const int64_t q = div_floor(sum, total);
