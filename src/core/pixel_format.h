@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "core/build.h"
+#include "core/row_stores.h"
 #include "core/sink.h"
 
 namespace ml {
@@ -120,6 +121,7 @@ class PixelPacker {
     const int skip = __builtin_ctzll(mask) >> 3;
     line += uint32_t(skip) * stride;
     mask >>= 8 * skip;
+    if constexpr (kPixelWideStores) return store_mask_rows<kBytes>(line, stride, mask, wide);
     int stored = 0;
     for (; mask != 0; mask >>= 8, line += stride) {
       uint32_t bits = uint32_t(mask) & 0xFFu;

@@ -83,6 +83,29 @@ TEST(PixelFormat, FillMaskEqualsFillOfEachSetPixel) {
     }
 }
 
+// Each of the 256 row bytes (one store sequence each on 64-bit hosts) in each row of a block and beside
+// a full row: exactly its pixels stored, in every format fill_mask takes, at an odd x (unaligned).
+TEST(PixelFormat, FillMaskStoresEveryRowByteExactly) {
+  for (ml::PixelFormat f : kAll) {
+    if (ml::format_bits_per_pixel(f) < 16) continue;
+    ml::PixelPacker packer;
+    packer.init(f, false);
+    const int width = 13, rows = 9, x = 3, row = 1;
+    const uint32_t stride = ml::format_stride(f, width);
+    const ml::Pixel value = 0x3C96E1;
+    for (uint32_t bits = 0; bits < 256; ++bits)
+      for (int r = 0; r < 8; ++r) {
+        const uint64_t mask = uint64_t(bits) << (8 * r) | (r > 0 ? 0xFFu : 0u);
+        std::vector<uint8_t> by_mask(ml::format_band_bytes(f, width, rows), 0xA5);
+        std::vector<uint8_t> by_fill = by_mask;
+        ASSERT_EQ(packer.fill_mask(by_mask.data(), stride, x, row, mask, value), __builtin_popcountll(mask));
+        for (int bit = 0; bit < 64; ++bit)
+          if (mask >> bit & 1) packer.fill(by_fill.data(), stride, x + (bit & 7), row + (bit >> 3), 0, 1, 1, value);
+        ASSERT_EQ(by_mask, by_fill) << "format " << int(f) << " row " << r << " bits " << bits;
+      }
+  }
+}
+
 TEST(PixelFormat, QuantizesToNearestAndExpandsBack) {
   EXPECT_EQ(ml::quantize_pixel(ml::PixelFormat::Rgb565Be, 0xFFFFFF, false, 0, 0), 0xFFFFu);
   EXPECT_EQ(ml::quantize_pixel(ml::PixelFormat::Rgb565Le, 0xFF0000, false, 0, 0), 0xF800u);
