@@ -108,10 +108,11 @@ class PixelPacker {
  private:
   // mask_pattern_ and mask_value_ for value.
   void quantize_mask_value(Pixel value);
-  // The set bits of an 8x8 mask (row 0 at `line`), one stored value of kBytes bytes a pixel: a full row
-  // is eight stores, any other row one store a set bit (tiled blocks are mostly full or ragged rows;
-  // runs found with two bit scans a row cost more than these stores: bundled scene 0.71 M -> 0.84 M).
-  // Returns the pixels stored. Inlined in fill_mask (on the boards, in its one copy optimized for size).
+  // The set bits of an 8x8 mask (row 0 at `line`), one stored value of kBytes bytes a pixel. On 64-bit
+  // hosts each row's own stores, through a jump on its byte (store_mask_rows); on the boards a full row
+  // is eight stores and any other row one store a set bit (runs found with two bit scans a row cost
+  // more than these stores: bundled scene 0.71 M -> 0.84 M). Returns the pixels stored. Inlined in
+  // fill_mask (on the boards, in its one copy optimized for size).
   template <int kBytes>
   [[gnu::always_inline]] static int fill_mask_bytes(uint8_t* line, uint32_t stride, uint64_t mask, const uint8_t* pattern) {
     if (mask == 0) return 0;
