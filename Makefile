@@ -212,7 +212,7 @@ $(eval $(call fw_image,$(FW)/mps2-an385-scanline.elf,m3,platform/cortex-m/mps2-a
 $(eval $(call fw_image,$(FW)/mps2-an385-calls.elf,m3,platform/cortex-m/mps2-an385/main.cpp,$(FW)/config/mps2.h,$(FW)/scenes/default.mls,platform/cortex-m/mps2-an385/memory.ld,$(FW)/obj/m3/platform/cortex-m/common/call_shims.o platform/cortex-m/common/call_count.cpp,$(FW_WRAP)))
 $(eval $(call fw_image,$(FW)/lm3s6965evb-tiler.elf,m3,platform/cortex-m/lm3s6965evb/main.cpp,$(FW)/config/lm3s-tiler.h,$(FW)/scenes/small.mls,platform/cortex-m/lm3s6965evb/memory.ld,$(FW_PANELS) platform/cortex-m/lm3s6965evb/ssi_transport.cpp))
 $(eval $(call fw_image,$(FW)/lm3s6965evb-scanline.elf,m3,platform/cortex-m/lm3s6965evb/main.cpp,$(FW)/config/lm3s-scanline.h,$(FW)/scenes/small.mls,platform/cortex-m/lm3s6965evb/memory.ld,$(FW_PANELS) platform/cortex-m/lm3s6965evb/ssi_transport.cpp))
-$(eval $(call fw_image,$(FW)/m0plus.elf,m0,platform/cortex-m/m0plus/main.cpp,$(FW)/config/m0plus.h,$(FW)/scenes/small.mls,platform/cortex-m/m0plus/memory.ld,))
+$(eval $(call fw_image,$(FW)/m0plus.elf,m0,platform/cortex-m/m0plus/main.cpp,$(FW)/config/m0plus.h,$(FW)/scenes/small.mls,platform/cortex-m/m0plus/memory.ld,,-Os))
 
 # tools/board/render-on-qemu: a scene and options of its own in build/firmware/custom/NAME/
 $(FW)/custom/%/mps2-an385.elf: $(FW)/custom/%/config.h $(FW)/custom/%/scene.mls $(call fwo,$(FW_COMMON),m3) $(FW)/obj/m3/libmaskline.a platform/cortex-m/mps2-an385/main.cpp $(wildcard src/*/*.h platform/cortex-m/*/*.h)

@@ -41,8 +41,10 @@ size_t bsp_stack_entries(const Scene& scene) {
 }
 
 // Antialiasing (aa > 1): a pixel of the band sums the colours of its samples as pieces cover them,
-// front to back, so each sample counts once; the pixel leaves, packed once, when its last sample is
-// covered (by a piece or by the background). Sums stay below 64 * 255 < 2^16.
+// front to back, so each sample counts once; the band's pixels leave, packed once, a run of a row at
+// a time, when the background has covered the last samples (BandWriter::finish_pixels: a one-pixel
+// fill as each pixel's last sample came cost about 100 instructions a pixel, docs/tiler.md). Sums
+// stay below 64 * 255 < 2^16.
 struct PixelSum {
   uint16_t r, g, b, samples;
 };
@@ -126,11 +128,11 @@ class BandWriter : public CoverageWriter {
   void use_filter(SampleFilter* filter) { cosine_ = filter; }
   void begin_band(int top, int rows) {
     top_ = top;
+    rows_ = rows;
 #if UINTPTR_MAX > 0xFFFFFFFFu
     band_end_ = top + rows;
 #endif
-    if (factor_ > 1 && !cosine_)
-      for (size_t i = 0; i < size_t(rows) * size_t(width_); ++i) sums_[i] = PixelSum{0, 0, 0, 0};
+    if (factor_ > 1 && !cosine_) memset(sums_, 0, sizeof(PixelSum) * size_t(rows) * size_t(width_));
   }
   // whole_view: the triangle's view_triangle when the piece is the whole triangle (valid while it is
   // tiled), else null.
@@ -220,6 +222,10 @@ class BandWriter : public CoverageWriter {
     }
     // The block holds (8 / f)^2 pixels of f x f samples each.
     const int f = factor_, per_side = 8 / f;
+    if (kLeanBlocks && !colors_.smooth && texture_ == kNone) {  // one colour: its channels once a block
+      add_block_flat(mask, x / f, band_y / f, per_side);
+      return true;
+    }
     for (int j = 0; j < per_side; ++j)
       for (int i = 0; i < per_side; ++i) {
         const uint64_t m = mask & (pixel_mask_ << (j * f * 8 + i * f));
@@ -486,29 +492,72 @@ class BandWriter : public CoverageWriter {
     }
   }
 
-  // n more samples of pixel (px, band row py) in the current colour.
-  void add_to_pixel(int px, int py, uint32_t n) {
+  // add_to_pixel of each pixel of an oversampled block (mask as write_block's, its first pixel (px, py),
+  // per_side pixels a side) in the piece's one colour, shaded already (64-bit hosts: the colour's
+  // channels taken once for the block, not looked up again for each pixel).
+  void add_block_flat(uint64_t mask, int px, int py, int per_side) {
+    const Pixel c = colors_.flat;
+    const uint32_t r = (c >> 16) & 0xFF, g = (c >> 8) & 0xFF, b = c & 0xFF;
+    const int f = factor_;
+    for (int j = 0; j < per_side; ++j) {
+      PixelSum* row = sums_ + size_t(py + j) * size_t(width_) + size_t(px);
+      for (int i = 0; i < per_side; ++i) {
+        const uint64_t m = mask & (pixel_mask_ << (j * f * 8 + i * f));
+        if (m == 0) continue;
+        const uint32_t n = uint32_t(bit_count64(m));
+        PixelSum& s = row[i];
+        s.r = uint16_t(s.r + r * n);
+        s.g = uint16_t(s.g + g * n);
+        s.b = uint16_t(s.b + b * n);
+        s.samples = uint16_t(s.samples + n);
+      }
+    }
+  }
+
+  // n more samples of pixel (px, band row py) in the current colour. One copy everywhere (inlined in
+  // write and write_block it takes the boards' images 600 to 900 bytes more).
+  [[gnu::noinline]] void add_to_pixel(int px, int py, uint32_t n) {
     const Pixel c = color_at(px, py + top_);
     PixelSum& s = sums_[size_t(py) * size_t(width_) + size_t(px)];
     s.r = uint16_t(s.r + ((c >> 16) & 0xFF) * n);
     s.g = uint16_t(s.g + ((c >> 8) & 0xFF) * n);
     s.b = uint16_t(s.b + (c & 0xFF) * n);
     s.samples = uint16_t(s.samples + n);
-    if (s.samples == uint32_t(factor_ * factor_)) finish_pixel(px, py + top_, s);
   }
 
-  // The box filter: the mean of the pixel's samples, rounded.
-  void finish_pixel(int px, int py, const PixelSum& s) {
+ public:
+  // The box filter's pixels of the band that took their samples one by one (add_to_pixel; a pixel a
+  // piece or the background covers whole is written at once, write_pixels), once the background has
+  // covered the band's last samples: each the mean of its samples, rounded, a run of a row at a time.
+  ML_TIGHT_FLASH_NOINLINE ML_TIGHT_FLASH_SIZE void finish_pixels() {
+    if (factor_ == 1 || cosine_) return;
     const uint32_t half = (1u << factor_bits_) >> 1;
-    out_.fill(px, py, 1, 1,
-              rgb((s.r + half) >> factor_bits_, (s.g + half) >> factor_bits_, (s.b + half) >> factor_bits_));
-    ++stats_->pixel_writes;
+    uint32_t written = 0;
+    for (int py = 0; py < rows_; ++py) {
+      const PixelSum* sums = sums_ + size_t(py) * size_t(width_);
+      int n = 0;  // row_ holds pixels px - n .. px - 1
+      for (int px = 0; px <= width_; ++px) {
+        const bool summed = px < width_ && sums[px].samples != 0;
+        if (n > 0 && (!summed || n == kRowPixels)) {
+          out_.put_row(px - n, py + top_, row_, n);
+          written += uint32_t(n);
+          n = 0;
+        }
+        if (summed) {
+          const PixelSum& s = sums[px];
+          row_[n++] = rgb((s.r + half) >> factor_bits_, (s.g + half) >> factor_bits_, (s.b + half) >> factor_bits_);
+        }
+      }
+    }
+    stats_->pixel_writes += written;
   }
+
+ private:
 
   BandOutput& out_;
   Stats* stats_;
   Pixel* row_;
-  int factor_ = 1, factor_bits_ = 0, width_ = 0;
+  int factor_ = 1, factor_bits_ = 0, width_ = 0, rows_ = 0;
   uint64_t pixel_mask_ = 0;
   PixelSum* sums_ = nullptr;
   Colours colours_{this};
@@ -1369,6 +1418,7 @@ Status TilerFrame::render_band(int band, Arena& arena) {
   writer_->begin_background(options_.shading == ShadingMode::Ids ? 0 : options_.background);
   const uint64_t before = tiler_.cells_visited;
   if (!tiler_.background(*writer_)) return error(StatusCode::SinkFailed, "sink refused a write");
+  writer_->finish_pixels();
   tiler_.cells_visited = before;
   st_->cells_visited = tiler_.cells_visited;
   arena.release_to(mark);
