@@ -140,15 +140,15 @@ void CosineFilter::add(int px, int py, uint64_t mask, Pixel c) {
   const Channels ch = channels(c);
   // Destination (px - dx, py - dy) sees this source at (dx, dy).
   const int end = rows_end(py);
-  for (int dy = -1; dy <= 1; ++dy) {
+  ML_HOST_UNROLL for (int dy = -1; dy <= 1; ++dy) {
     const int y = py - dy;
     const uint64_t l = lanes[dy + 1];
     if (y < top_ || y >= end || l == 0) continue;
     FilterSum* row = row_at(y);
-    for (int dx = -1; dx <= 1; ++dx) {
+    ML_HOST_UNROLL for (int dx = -1; dx <= 1; ++dx) {
       const int x = px - dx;
       const uint32_t w = uint32_t(l >> (16 * (dx + 1))) & 0xFFFFu;
-      if (w != 0 && x >= 0 && x < width_) add_weight(row[x], x, y, w, ch);
+      if (w != 0 && x >= 0 && x < width_) add_weight(row[x], w, ch);
     }
   }
 }
@@ -183,23 +183,39 @@ void CosineFilter::add_flat_rect(int x, int y, int w, int h, Pixel c) {
       if (py >= iy0 && py < iy1 && px == ix0 && ix0 < ix1) px = ix1;  // skip the inside
       if (px > min_of(x + w, width_ - 1)) break;
       const uint32_t weight = inside_weight(rows, inside(px, x, x + w));
-      if (weight != 0) add_weight(row[px], px, py, weight, ch);
+      if (weight != 0) add_weight(row[px], weight, ch);
     }
   }
 }
 
-void CosineFilter::finish(const FilterSum& s, int px, int py) {
+Pixel CosineFilter::mean(const FilterSum& s, int px, int py) const {
   // Rounded to nearest: a shift inside the frame, a division by the on-screen weight at its edges.
-  Pixel out;
   if (!on_border(px, py)) {
     const uint32_t half = kFilterWeightOne / 2;
-    out = rgb((s.r + half) >> kFilterWeightBits, (s.g + half) >> kFilterWeightBits, (s.b + half) >> kFilterWeightBits);
-  } else {
-    const uint32_t full = full_weight(px, py), half = full / 2;
-    out = rgb((s.r + half) / full, (s.g + half) / full, (s.b + half) / full);
+    return rgb((s.r + half) >> kFilterWeightBits, (s.g + half) >> kFilterWeightBits, (s.b + half) >> kFilterWeightBits);
   }
-  out_->fill(px, py, 1, 1, out);
-  ++stats_->pixel_writes;
+  const uint32_t full = full_weight(px, py), half = full / 2;
+  return rgb((s.r + half) / full, (s.g + half) / full, (s.b + half) / full);
+}
+
+void CosineFilter::end_band() {
+  constexpr int kRun = 32;  // pixels a put_row
+  Pixel run[kRun];
+  uint32_t written = 0;
+  for (int y = 0; y < rows_; ++y) {
+    const FilterSum* sums = sums_ + size_t(y) * size_t(width_);
+    int n = 0;  // run holds pixels px - n .. px - 1
+    for (int px = 0; px <= width_; ++px) {
+      const bool complete = px < width_ && sums[px].weight == kFilterWeightOne;
+      if (n > 0 && (!complete || n == kRun)) {
+        out_->put_row(px - n, top_ + y, run, n);
+        written += uint32_t(n);
+        n = 0;
+      }
+      if (complete) run[n++] = mean(sums[px], px, top_ + y);
+    }
+  }
+  stats_->pixel_writes += written;
 }
 
 }  // namespace ml

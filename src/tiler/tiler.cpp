@@ -530,7 +530,8 @@ class BandWriter : public CoverageWriter {
   // piece or the background covers whole is written at once, write_pixels), once the background has
   // covered the band's last samples: each the mean of its samples, rounded, a run of a row at a time.
   ML_TIGHT_FLASH_NOINLINE ML_TIGHT_FLASH_SIZE void finish_pixels() {
-    if (factor_ == 1 || cosine_) return;
+    if (cosine_) return cosine_->end_band();
+    if (factor_ == 1) return;
     const uint32_t half = (1u << factor_bits_) >> 1;
     uint32_t written = 0;
     for (int py = 0; py < rows_; ++py) {
