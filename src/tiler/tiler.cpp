@@ -214,6 +214,9 @@ class BandWriter : public CoverageWriter {
       // One colour for the whole block: the mask goes to the band as it is, not run by run.
       if (texture_ == kNone && !colors_.smooth && fill_flat(mask, x, band_y)) return true;
       if (texture_ != kNone && !colors_.smooth && write_textured_block(mask, x, band_y + top_)) return true;
+#if UINTPTR_MAX > 0xFFFFFFFFu
+      if (texture_ == kNone && colors_.smooth) return write_smooth_block(mask, x, band_y + top_);
+#endif
       return CoverageWriter::write_block(mask, x, band_y);
     }
     if (cosine_) {
@@ -418,6 +421,47 @@ class BandWriter : public CoverageWriter {
   }
 
 #if UINTPTR_MAX > 0xFFFFFFFFu
+  // A Gouraud block (one sample a pixel, no texture) on a 64-bit host: each row's pixels from the
+  // colour planes stepped across the row (write_pixels' sums, the same values), straight into the band
+  // when it stores colours as they are, else into row_ at their bits and out as a mask (or run by run),
+  // instead of a write_pixels call a run with its own plane sums (the duck's Gouraud frame 14.49 M ->
+  // 12.63 M instructions).
+  bool write_smooth_block(uint64_t mask, int x, int y) {
+    if (!planes_ready_) {
+      make_color_planes(*part_, colors_, &planes_);
+      planes_ready_ = true;
+    }
+    const uint64_t n = uint64_t(bit_count64(mask));
+    stats_->pixel_writes += n;
+    stats_->shading_calls += n;
+    uint32_t stride = 8;
+    Pixel* const band = out_.pixels_at(x, y, &stride);
+    Pixel* const to = band ? band : row_;
+    if (!band) stride = 8;
+    const LinearPlane &pr = planes_.channel[0], &pg = planes_.channel[1], &pb = planes_.channel[2];
+    for (uint64_t m = mask; m != 0;) {
+      const int r = __builtin_ctzll(m) >> 3;
+      const uint32_t bits = uint32_t(m >> (8 * r)) & 0xFFu;
+      m &= ~(uint64_t(0xFF) << (8 * r));
+      const int first = __builtin_ctz(bits), last = 31 - __builtin_clz(bits);
+      const int64_t px = x + first, py = y + r;
+      int64_t ar = pr.origin + pr.step_x * px + pr.step_y * py, ag = pg.origin + pg.step_x * px + pg.step_y * py,
+              ab = pb.origin + pb.step_x * px + pb.step_y * py;
+      Pixel* const row = to + size_t(r) * stride;
+      for (int c = first; c <= last; ++c, ar += pr.step_x, ag += pg.step_x, ab += pb.step_x)
+        if ((bits >> c) & 1u)
+          row[c] = rgb(uint32_t(clamp_to(int32_t(ar >> kPlaneBits), 0, 255)),
+                       uint32_t(clamp_to(int32_t(ag >> kPlaneBits), 0, 255)),
+                       uint32_t(clamp_to(int32_t(ab >> kPlaneBits), 0, 255)));
+    }
+    if (band || out_.put_mask(mask, x, y, row_)) return true;
+    for (uint64_t m = mask; m != 0;) {  // row_[8 r + c] holds pixel (x + c, y + r)
+      const SampleRun run = take_mask_run(&m, x, y);
+      out_.put_row(run.x, run.y, row_ + 8 * (run.y - y) + (run.x - x), run.n);
+    }
+    return true;
+  }
+
   // write_textured_block on a 64-bit host: the samples straight from the mask (sample_block), into
   // the band itself when it stores colours as they are, else into row_ at their bits and out as a mask
   // (or run by run). The sampling is kept from small piece to small piece (KeptSampling); each piece
