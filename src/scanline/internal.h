@@ -118,6 +118,10 @@ void prepare_weights(ActiveTri* t, const Lattice& lat);
 // round(E_j 2^16 / (area2 den)) exactly, by t.weight_recip and t.weight_shift (prepare_weights): no
 // division.
 void sample_weights(const ActiveTri& t, const Lattice& lat, int32_t x, int32_t y, int32_t w[3]);
+// The colours of covered samples x0 .. x1 of row y of a Gouraud piece (weights ready) into out[x0 ..
+// x1]: blend_colors of its vertex colours by sample_weights at each, the same values, the edge values
+// stepped along the row instead of evaluated at each sample.
+void smooth_run(const ActiveTri& t, const Lattice& lat, int32_t x0, int32_t x1, int32_t y, Pixel* out);
 
 
 // Interpolated vertex normal (Q1.14 in, Q1.14 out) renormalized with Newton steps

@@ -268,6 +268,34 @@ void sample_weights(const ActiveTri& t, const Lattice& lat, int32_t x, int32_t y
   w[0] = kWeightOne - w[1] - w[2];
 }
 
+// The blend inline in smooth_run's loop on 64-bit hosts (the boards keep the one copy).
+constexpr bool kBlendInline = UINTPTR_MAX > 0xFFFFFFFFu;
+
+void smooth_run(const ActiveTri& t, const Lattice& lat, int32_t x0, int32_t x1, int32_t y, Pixel* out) {
+  // sample_weights' edge values, stepped along the row (e = k x + r: the same values), and its
+  // quotients sample by sample.
+  int64_t e[3], k[3];
+  for (int j = 1; j < 3; ++j) {
+    const LatticeEdge r = lattice_row(opposite_plane(t, j), lat, y);
+    e[j] = r.k * x0 + r.r;
+    k[j] = r.k;
+  }
+  const uint64_t total = uint64_t(triangle_area2(t) * lat.den);
+  const int shift = t.weight_shift;
+  const uint64_t d = weight_divisor(total, shift);
+  const uint64_t half = d / 2;
+  for (int32_t x = x0; x <= x1; ++x) {
+    int32_t w[3];
+    for (int j = 1; j < 3; ++j) {
+      const uint64_t ej = min_of(uint64_t(max_of(e[j], int64_t(0))), total) >> shift;
+      w[j] = int32_t(divide_by_reciprocal((ej << kWeightBits) + half, d, t.weight_recip));
+      e[j] += k[j];
+    }
+    w[0] = kWeightOne - w[1] - w[2];
+    out[x] = kBlendInline ? blend_colors_inline(t.color, w) : blend_colors(t.color, w);
+  }
+}
+
 Vec3i interpolate_normal(const int16_t n[3][3], const int32_t w[3], int steps) {
   int64_t acc[3] = {0, 0, 0};
   for (int j = 0; j < 3; ++j)
@@ -1108,6 +1136,15 @@ struct Renderer {
       if (!has_texture && !(a.flags & kSmooth)) {  // one colour: shade()'s answer, counted as its calls
         stats->shading_calls += uint64_t(x1 - x0 + 1);
         fill_pixels(keep_surface, x0, x1, a.color[0]);
+        return;
+      }
+      if (!has_texture) {  // Gouraud: shade()'s colours, the row's weights stepped (smooth_run)
+        stats->shading_calls += uint64_t(x1 - x0 + 1);
+        if (!(a.flags & kWeightsReady)) {
+          prepare_weights(&a, s.lat);
+          a.flags |= kWeightsReady;
+        }
+        smooth_run(a, s.lat, x0, x1, y, keep_surface);
         return;
       }
       for (int32_t x = x0; x <= x1; ++x) keep_surface[x] = shade(a, x, y);

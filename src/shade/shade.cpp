@@ -119,15 +119,7 @@ LinearPlane make_plane(const ScreenTriangle& tri, const int32_t values[3]) {
   return p;
 }
 
-Pixel blend_colors(const Pixel c[3], const int32_t w[3]) {
-  uint32_t out = 0;
-  for (int shift = 16; shift >= 0; shift -= 8) {
-    int64_t sum = 0;
-    for (int k = 0; k < 3; ++k) sum += int64_t((c[k] >> shift) & 0xFF) * w[k];
-    out |= uint32_t(clamp_to<int64_t>(shift_round(sum, kWeightBits), 0, 255)) << shift;
-  }
-  return out;
-}
+Pixel blend_colors(const Pixel c[3], const int32_t w[3]) { return blend_colors_inline(c, w); }
 
 Pixel blend_vertex_color(const TriangleColors& colors, const ScreenVertex& v) {
   return blend_colors(colors.vertex, v.weight);

@@ -56,6 +56,17 @@ LinearPlane make_plane(const ScreenTriangle& tri, const int32_t values[3]);
 
 // c[0] w[0] + c[1] w[1] + c[2] w[2] per channel, weights Q16 summing to 65536, rounded and saturated.
 Pixel blend_colors(const Pixel c[3], const int32_t w[3]);
+// blend_colors inline, for a loop of samples (the scanline renderer's Gouraud runs), its channels
+// unrolled on 64-bit hosts.
+inline Pixel blend_colors_inline(const Pixel c[3], const int32_t w[3]) {
+  uint32_t out = 0;
+  ML_HOST_UNROLL for (int shift = 16; shift >= 0; shift -= 8) {
+    int64_t sum = 0;
+    ML_HOST_UNROLL for (int k = 0; k < 3; ++k) sum += int64_t((c[k] >> shift) & 0xFF) * w[k];
+    out |= uint32_t(clamp_to<int64_t>(shift_round(sum, kWeightBits), 0, 255)) << shift;
+  }
+  return out;
+}
 
 // The colour of piece vertex i of a projected triangle, from the original triangle's vertex colours
 // and the piece vertex's barycentric weights.
