@@ -24,15 +24,16 @@ if [ -f "$boxtex" ]; then
 fi
 # A textured model of many small triangles: the COLLADA duck (4,212 triangles, a 256x256 TGA) converted
 # to glTF by assimp, in a directory of its own with the texture beside it (the glb refers to
-# ./duckCM.tga; run.sh's duck, without it, stays untextured).
+# ./duckCM.tga). Compiled as duck-textured.mls: run.sh's duck.mls, exported without the texture beside it,
+# stays the untextured duck that quality.sh and the frame table measure. Its rows are labelled duck.
 duck_dir=/usr/share/assimp/models/Collada
 if [ -f "$duck_dir/duck.dae" ] && [ -f "$duck_dir/duckCM.tga" ] && command -v assimp >/dev/null; then
   mkdir -p "$work/duck-textured"
   cp "$duck_dir/duckCM.tga" "$work/duck-textured/"
   assimp export "$duck_dir/duck.dae" "$work/duck-textured/duck.glb" -f glb2 >/dev/null
-  "$bench" prepare "$work/duck-textured/duck.glb" "$work/duck.mls" >/dev/null
+  "$bench" prepare "$work/duck-textured/duck.glb" "$work/duck-textured.mls" >/dev/null
   for v in plain nearest; do "$bench" prepare "$v:$work/duck-textured/duck.glb" "$work/duck-$v.mls" >/dev/null; done
-  scenes+=(duck duck-nearest)
+  scenes+=(duck-textured duck-nearest)
 fi
 
 # The core's 16-row bands, rendered a band at a time, textured and untextured alike: with arena to spare
@@ -62,13 +63,13 @@ for s in "${scenes[@]}"; do
     peak=$(stat "$s" "$r" texture_bytes_peak)
     ratio=$(awk -v a="$with" -v b="$without" 'BEGIN { printf "%.2f", a / b }')
     share=$(awk -v a="$peak" -v b="$total" 'BEGIN { printf "%.2f", a / b }')
-    rows+=("| $s | $r | $with | $without | $ratio | $read_bytes | $peak | $share of $total |")
-    echo "  $s $r: $with vs $without instructions ($ratio x), $read_bytes bytes read, peak $peak of $total"
+    rows+=("| ${s%-textured} | $r | $with | $without | $ratio | $read_bytes | $peak | $share of $total |")
+    echo "  ${s%-textured} $r: $with vs $without instructions ($ratio x), $read_bytes bytes read, peak $peak of $total"
   done
 done
 # The scanline renderer supersampled (3x3, each sample textured: the paper's filtering of texels).
-if [[ " ${scenes[*]} " == *" duck "* ]]; then
-  with=$(instructions duck scanline 3)
+if [[ " ${scenes[*]} " == *" duck-textured "* ]]; then
+  with=$(instructions duck-textured scanline 3)
   without=$(instructions duck-plain scanline 3)
   ratio=$(awk -v a="$with" -v b="$without" 'BEGIN { printf "%.2f", a / b }')
   rows+=("| duck, 3x3 samples | scanline | $with | $without | $ratio | | | |")
