@@ -60,6 +60,24 @@ class BandOutput {
   void put_row(int x, int y, const Pixel* pixels, int n) {
     packer_.put_row(current_, stride_, x, y - top_, y, pixels, n);
   }
+  // The pixels x of frame row y (0 <= x < width) for which has(x), each colour(x), put a run at a time
+  // through `buffer` (of `capacity` pixels); returns how many. For the antialiasing filters' pixels,
+  // which leave at the band's end but for those written whole before.
+  template <class Has, class Colour>
+  [[gnu::always_inline]] uint32_t put_row_runs(int y, int width, Pixel* buffer, int capacity, Has has, Colour colour) {
+    uint32_t put = 0;
+    for (int x = 0; x < width;) {
+      if (!has(x)) {
+        ++x;
+        continue;
+      }
+      const int start = x;  // a run: pixels start .. x - 1
+      for (; x < width && x - start < capacity && has(x); ++x) buffer[x - start] = colour(x);
+      put_row(start, y, buffer, x - start);
+      put += uint32_t(x - start);
+    }
+    return put;
+  }
   void fill(int x, int y, int w, int h, Pixel value) {
     packer_.fill(current_, stride_, x, y - top_, y, w, h, value);
   }

@@ -246,53 +246,55 @@ void prepare_weights(ActiveTri* t, const Lattice& lat) {
   t->weight_recip = make_reciprocal(weight_divisor(total, t->weight_shift));
 }
 
+namespace {
+// The weights of a piece at its covered samples from the edge values there, e[j] for the edge opposite
+// vertex j (j = 1, 2), scaled by den. At a covered sample the three are >= 0 and sum to area2 * den
+// (the edge functions of a triangle add up to its doubled area everywhere): the divisor
+// prepare_weights made the reciprocal for. Numerators are kept below 2^46 so that << 16 fits; w =
+// round(e 2^16 / total) (div_round of non-negatives). A value below 0 (not at a covered sample) is kept
+// in range.
+class WeightDivider {
+ public:
+  WeightDivider(const ActiveTri& t, const Lattice& lat)
+      : total_(uint64_t(triangle_area2(t) * lat.den)), shift_(t.weight_shift),
+        d_(weight_divisor(total_, shift_)), half_(d_ / 2), recip_(t.weight_recip) {}
+  [[gnu::always_inline]] void weights(const int64_t e[3], int32_t w[3]) const {
+    ML_HOST_UNROLL for (int j = 1; j < 3; ++j) {
+      const uint64_t ej = min_of(uint64_t(max_of(e[j], int64_t(0))), total_) >> shift_;  // <= d: quotients <= 2^16
+      w[j] = int32_t(divide_by_reciprocal((ej << kWeightBits) + half_, d_, recip_));
+    }
+    w[0] = kWeightOne - w[1] - w[2];
+  }
+
+ private:
+  uint64_t total_;
+  int shift_;
+  uint64_t d_, half_;
+  uint32_t recip_;
+};
+}  // namespace
+
 void sample_weights(const ActiveTri& t, const Lattice& lat, int32_t x, int32_t y, int32_t w[3]) {
   int64_t e[3];  // e[j]: the plane of the edge opposite vertex j at the sample, scaled by den
   for (int j = 1; j < 3; ++j) {
     const LatticeEdge r = lattice_row(opposite_plane(t, j), lat, y);
     e[j] = r.k * x + r.r;
-    if (e[j] < 0) e[j] = 0;  // not at a covered sample; kept in range
   }
-  // At a covered sample the three are >= 0 and sum to area2 * den (the edge functions of a triangle
-  // add up to its doubled area everywhere): the divisor prepare_weights made the reciprocal for.
-  // Numerators are kept below 2^46 so that << 16 fits; w = round(e 2^16 / total) (div_round of
-  // non-negatives).
-  const uint64_t total = uint64_t(triangle_area2(t) * lat.den);
-  const int shift = t.weight_shift;
-  const uint64_t d = weight_divisor(total, shift);
-  const uint64_t half = d / 2;
-  for (int j = 1; j < 3; ++j) {
-    const uint64_t ej = min_of(uint64_t(e[j]), total) >> shift;  // <= d: quotients <= 2^16
-    w[j] = int32_t(divide_by_reciprocal((ej << kWeightBits) + half, d, t.weight_recip));
-  }
-  w[0] = kWeightOne - w[1] - w[2];
+  WeightDivider(t, lat).weights(e, w);
 }
 
-// The blend inline in smooth_run's loop on 64-bit hosts (the boards keep the one copy).
-constexpr bool kBlendInline = UINTPTR_MAX > 0xFFFFFFFFu;
-
 void smooth_run(const ActiveTri& t, const Lattice& lat, int32_t x0, int32_t x1, int32_t y, Pixel* out) {
-  // sample_weights' edge values, stepped along the row (e = k x + r: the same values), and its
-  // quotients sample by sample.
-  int64_t e[3], k[3];
+  int64_t e[3], k[3];  // sample_weights' edge values, stepped along the row (e = k x + r: the same values)
   for (int j = 1; j < 3; ++j) {
     const LatticeEdge r = lattice_row(opposite_plane(t, j), lat, y);
     e[j] = r.k * x0 + r.r;
     k[j] = r.k;
   }
-  const uint64_t total = uint64_t(triangle_area2(t) * lat.den);
-  const int shift = t.weight_shift;
-  const uint64_t d = weight_divisor(total, shift);
-  const uint64_t half = d / 2;
-  for (int32_t x = x0; x <= x1; ++x) {
+  const WeightDivider divider(t, lat);
+  for (int32_t x = x0; x <= x1; ++x, e[1] += k[1], e[2] += k[2]) {
     int32_t w[3];
-    for (int j = 1; j < 3; ++j) {
-      const uint64_t ej = min_of(uint64_t(max_of(e[j], int64_t(0))), total) >> shift;
-      w[j] = int32_t(divide_by_reciprocal((ej << kWeightBits) + half, d, t.weight_recip));
-      e[j] += k[j];
-    }
-    w[0] = kWeightOne - w[1] - w[2];
-    out[x] = kBlendInline ? blend_colors_inline(t.color, w) : blend_colors(t.color, w);
+    divider.weights(e, w);
+    out[x] = blend_colors_inline(t.color, w);
   }
 }
 

@@ -56,8 +56,8 @@ LinearPlane make_plane(const ScreenTriangle& tri, const int32_t values[3]);
 
 // c[0] w[0] + c[1] w[1] + c[2] w[2] per channel, weights Q16 summing to 65536, rounded and saturated.
 Pixel blend_colors(const Pixel c[3], const int32_t w[3]);
-// blend_colors inline, for a loop of samples (the scanline renderer's Gouraud runs), its channels
-// unrolled on 64-bit hosts.
+// blend_colors inline, for a loop of samples (the scanline renderer's Gouraud runs; blend_colors is
+// its one out-of-line copy), its channels unrolled on 64-bit hosts.
 inline Pixel blend_colors_inline(const Pixel c[3], const int32_t w[3]) {
   uint32_t out = 0;
   ML_HOST_UNROLL for (int shift = 16; shift >= 0; shift -= 8) {
@@ -78,5 +78,31 @@ struct ColorPlanes {
   Pixel at(int32_t px, int32_t py) const;
 };
 void make_color_planes(const ScreenTriangle& piece, const TriangleColors& colors, ColorPlanes* out);
+
+// ColorPlanes::at stepped along a row from pixel (x, y): the same sums, shifts and clamp, one addition
+// a channel a pixel.
+class ColorPlanesRow {
+ public:
+  ColorPlanesRow(const ColorPlanes& planes, int64_t x, int64_t y) : planes_(planes) {
+    ML_HOST_UNROLL for (int c = 0; c < 3; ++c) {
+      const LinearPlane& p = planes.channel[c];
+      acc_[c] = p.origin + p.step_x * x + p.step_y * y;
+    }
+  }
+  // The current pixel's colour.
+  Pixel colour() const {
+    uint32_t ch[3];
+    ML_HOST_UNROLL for (int c = 0; c < 3; ++c) ch[c] = uint32_t(clamp_to(int32_t(acc_[c] >> kPlaneBits), 0, 255));
+    return rgb(ch[0], ch[1], ch[2]);
+  }
+  // On to the next pixel of the row.
+  void step() {
+    ML_HOST_UNROLL for (int c = 0; c < 3; ++c) acc_[c] += planes_.channel[c].step_x;
+  }
+
+ private:
+  const ColorPlanes& planes_;
+  int64_t acc_[3];
+};
 
 }  // namespace ml

@@ -199,21 +199,13 @@ Pixel CosineFilter::mean(const FilterSum& s, int px, int py) const {
 }
 
 void CosineFilter::end_band() {
-  constexpr int kRun = 32;  // pixels a put_row
-  Pixel run[kRun];
+  Pixel run[32];  // the colours of a put_row
   uint32_t written = 0;
   for (int y = 0; y < rows_; ++y) {
     const FilterSum* sums = sums_ + size_t(y) * size_t(width_);
-    int n = 0;  // run holds pixels px - n .. px - 1
-    for (int px = 0; px <= width_; ++px) {
-      const bool complete = px < width_ && sums[px].weight == kFilterWeightOne;
-      if (n > 0 && (!complete || n == kRun)) {
-        out_->put_row(px - n, top_ + y, run, n);
-        written += uint32_t(n);
-        n = 0;
-      }
-      if (complete) run[n++] = mean(sums[px], px, top_ + y);
-    }
+    written += out_->put_row_runs(
+        top_ + y, width_, run, 32, [sums](int px) { return sums[px].weight == kFilterWeightOne; },
+        [&](int px) { return mean(sums[px], px, top_ + y); });
   }
   stats_->pixel_writes += written;
 }

@@ -180,6 +180,25 @@ class BandWriter : public CoverageWriter {
   }
   bool wrote_piece() const { return wrote_piece_; }
   void clear_piece() { wrote_piece_ = false; }
+  // The box filter's pixels of the band that took their samples one by one (add_to_pixel; a pixel a
+  // piece or the background covers whole is written at once, write_pixels), once the background has
+  // covered the band's last samples: each the mean of its samples, rounded, a run of a row at a time.
+  ML_TIGHT_FLASH_NOINLINE ML_TIGHT_FLASH_SIZE void finish_pixels() {
+    if (cosine_) return cosine_->end_band();
+    if (factor_ == 1) return;
+    const uint32_t half = (1u << factor_bits_) >> 1;
+    uint32_t written = 0;
+    for (int py = 0; py < rows_; ++py) {
+      const PixelSum* sums = sums_ + size_t(py) * size_t(width_);
+      written += out_.put_row_runs(
+          py + top_, width_, row_, kRowPixels, [sums](int px) { return sums[px].samples != 0; },
+          [&](int px) {
+            const PixelSum& s = sums[px];
+            return rgb((s.r + half) >> factor_bits_, (s.g + half) >> factor_bits_, (s.b + half) >> factor_bits_);
+          });
+    }
+    stats_->pixel_writes += written;
+  }
 
   bool write(int x, int band_y, int w, int h) override {
     first_write();
@@ -278,20 +297,8 @@ class BandWriter : public CoverageWriter {
     for (int yy = y; yy < y + h; ++yy)
       for (int x0 = x; x0 < x + w; x0 += kRowPixels) {
         const int n = min_of(kRowPixels, x + w - x0);
-        // ColorPlanes::at, stepped along the row: same sums, same shifts, same clamp.
-        int64_t acc[3];
-        for (int c = 0; c < 3; ++c) {
-          const LinearPlane& p = planes_.channel[c];
-          acc[c] = p.origin + p.step_x * x0 + p.step_y * yy;
-        }
-        for (int i = 0; i < n; ++i) {
-          uint32_t ch[3];
-          for (int c = 0; c < 3; ++c) {
-            ch[c] = uint32_t(clamp_to(int32_t(acc[c] >> kPlaneBits), 0, 255));
-            acc[c] += planes_.channel[c].step_x;
-          }
-          row_[i] = rgb(ch[0], ch[1], ch[2]);
-        }
+        ColorPlanesRow colours(planes_, x0, yy);
+        for (int i = 0; i < n; ++i, colours.step()) row_[i] = colours.colour();
         out_.put_row(x0, yy, row_, n);
       }
     return true;
@@ -434,27 +441,33 @@ class BandWriter : public CoverageWriter {
     const uint64_t n = uint64_t(bit_count64(mask));
     stats_->pixel_writes += n;
     stats_->shading_calls += n;
-    uint32_t stride = 8;
-    Pixel* const band = out_.pixels_at(x, y, &stride);
-    Pixel* const to = band ? band : row_;
-    if (!band) stride = 8;
-    const LinearPlane &pr = planes_.channel[0], &pg = planes_.channel[1], &pb = planes_.channel[2];
+    uint32_t stride;
+    Pixel* const to = block_colours_at(x, y, &stride);
     for (uint64_t m = mask; m != 0;) {
       const int r = __builtin_ctzll(m) >> 3;
       const uint32_t bits = uint32_t(m >> (8 * r)) & 0xFFu;
       m &= ~(uint64_t(0xFF) << (8 * r));
       const int first = __builtin_ctz(bits), last = 31 - __builtin_clz(bits);
-      const int64_t px = x + first, py = y + r;
-      int64_t ar = pr.origin + pr.step_x * px + pr.step_y * py, ag = pg.origin + pg.step_x * px + pg.step_y * py,
-              ab = pb.origin + pb.step_x * px + pb.step_y * py;
+      ColorPlanesRow colours(planes_, x + first, y + r);
       Pixel* const row = to + size_t(r) * stride;
-      for (int c = first; c <= last; ++c, ar += pr.step_x, ag += pg.step_x, ab += pb.step_x)
-        if ((bits >> c) & 1u)
-          row[c] = rgb(uint32_t(clamp_to(int32_t(ar >> kPlaneBits), 0, 255)),
-                       uint32_t(clamp_to(int32_t(ag >> kPlaneBits), 0, 255)),
-                       uint32_t(clamp_to(int32_t(ab >> kPlaneBits), 0, 255)));
+      for (int c = first; c <= last; ++c, colours.step())
+        if ((bits >> c) & 1u) row[c] = colours.colour();
     }
-    if (band || out_.put_mask(mask, x, y, row_)) return true;
+    return put_block_colours(mask, x, y, to);
+  }
+
+  // Where a 64-bit host's block writer puts the colours of the 8x8 block at (x, y): the band itself
+  // when it stores colours as they are, else row_ (pixel (x + c, y + r) at 8 r + c); rows *stride apart.
+  Pixel* block_colours_at(int x, int y, uint32_t* stride) {
+    Pixel* const band = out_.pixels_at(x, y, stride);
+    if (band) return band;
+    *stride = 8;
+    return row_;
+  }
+  // The block's colours out of row_ when block_colours_at gave it (to): as a mask, or run by run when
+  // the format needs them so. Always true.
+  bool put_block_colours(uint64_t mask, int x, int y, const Pixel* to) {
+    if (to != row_ || out_.put_mask(mask, x, y, row_)) return true;
     for (uint64_t m = mask; m != 0;) {  // row_[8 r + c] holds pixel (x + c, y + r)
       const SampleRun run = take_mask_run(&m, x, y);
       out_.put_row(run.x, run.y, row_ + 8 * (run.y - y) + (run.x - x), run.n);
@@ -470,15 +483,10 @@ class BandWriter : public CoverageWriter {
     const TextureSampling& sampling =
         kept_sampling_.for_texture(*pager_, *scene_, texture_, bytes, planes, colors_.flat);
     static_assert(kRowPixels >= 64, "a block's colours fit the row buffer");
-    uint32_t stride = 8;
-    Pixel* band = out_.pixels_at(x, y, &stride);
-    sample_block(sampling, mask, x, y, band ? band : row_, band ? stride : 8);
-    if (band || out_.put_mask(mask, x, y, row_)) return true;
-    for (uint64_t m = mask; m != 0;) {  // row_[8 r + c] holds pixel (x + c, y + r)
-      const SampleRun run = take_mask_run(&m, x, y);
-      out_.put_row(run.x, run.y, row_ + 8 * (run.y - y) + (run.x - x), run.n);
-    }
-    return true;
+    uint32_t stride;
+    Pixel* const to = block_colours_at(x, y, &stride);
+    sample_block(sampling, mask, x, y, to, stride);
+    return put_block_colours(mask, x, y, to);
   }
 #endif
 
@@ -537,67 +545,33 @@ class BandWriter : public CoverageWriter {
   }
 
   // add_to_pixel of each pixel of an oversampled block (mask as write_block's, its first pixel (px, py),
-  // per_side pixels a side) in the piece's one colour, shaded already (64-bit hosts: the colour's
-  // channels taken once for the block, not looked up again for each pixel).
+  // per_side pixels a side) in the piece's one colour, shaded already (64-bit hosts: the colour taken
+  // once for the block, not looked up again for each pixel).
   void add_block_flat(uint64_t mask, int px, int py, int per_side) {
     const Pixel c = colors_.flat;
-    const uint32_t r = (c >> 16) & 0xFF, g = (c >> 8) & 0xFF, b = c & 0xFF;
     const int f = factor_;
     for (int j = 0; j < per_side; ++j) {
       PixelSum* row = sums_ + size_t(py + j) * size_t(width_) + size_t(px);
       for (int i = 0; i < per_side; ++i) {
         const uint64_t m = mask & (pixel_mask_ << (j * f * 8 + i * f));
         if (m == 0) continue;
-        const uint32_t n = uint32_t(bit_count64(m));
-        PixelSum& s = row[i];
-        s.r = uint16_t(s.r + r * n);
-        s.g = uint16_t(s.g + g * n);
-        s.b = uint16_t(s.b + b * n);
-        s.samples = uint16_t(s.samples + n);
+        add_samples_to(row[i], c, uint32_t(bit_count64(m)));
       }
     }
   }
-
-  // n more samples of pixel (px, band row py) in the current colour. One copy everywhere (inlined in
-  // write and write_block it takes the boards' images 600 to 900 bytes more).
-  [[gnu::noinline]] void add_to_pixel(int px, int py, uint32_t n) {
-    const Pixel c = color_at(px, py + top_);
-    PixelSum& s = sums_[size_t(py) * size_t(width_) + size_t(px)];
+  // n more samples of colour c in a pixel's sums.
+  static void add_samples_to(PixelSum& s, Pixel c, uint32_t n) {
     s.r = uint16_t(s.r + ((c >> 16) & 0xFF) * n);
     s.g = uint16_t(s.g + ((c >> 8) & 0xFF) * n);
     s.b = uint16_t(s.b + (c & 0xFF) * n);
     s.samples = uint16_t(s.samples + n);
   }
 
- public:
-  // The box filter's pixels of the band that took their samples one by one (add_to_pixel; a pixel a
-  // piece or the background covers whole is written at once, write_pixels), once the background has
-  // covered the band's last samples: each the mean of its samples, rounded, a run of a row at a time.
-  ML_TIGHT_FLASH_NOINLINE ML_TIGHT_FLASH_SIZE void finish_pixels() {
-    if (cosine_) return cosine_->end_band();
-    if (factor_ == 1) return;
-    const uint32_t half = (1u << factor_bits_) >> 1;
-    uint32_t written = 0;
-    for (int py = 0; py < rows_; ++py) {
-      const PixelSum* sums = sums_ + size_t(py) * size_t(width_);
-      int n = 0;  // row_ holds pixels px - n .. px - 1
-      for (int px = 0; px <= width_; ++px) {
-        const bool summed = px < width_ && sums[px].samples != 0;
-        if (n > 0 && (!summed || n == kRowPixels)) {
-          out_.put_row(px - n, py + top_, row_, n);
-          written += uint32_t(n);
-          n = 0;
-        }
-        if (summed) {
-          const PixelSum& s = sums[px];
-          row_[n++] = rgb((s.r + half) >> factor_bits_, (s.g + half) >> factor_bits_, (s.b + half) >> factor_bits_);
-        }
-      }
-    }
-    stats_->pixel_writes += written;
+  // n more samples of pixel (px, band row py) in the current colour. One copy everywhere (inlined in
+  // write and write_block it takes the boards' images 600 to 900 bytes more).
+  [[gnu::noinline]] void add_to_pixel(int px, int py, uint32_t n) {
+    add_samples_to(sums_[size_t(py) * size_t(width_) + size_t(px)], color_at(px, py + top_), n);
   }
-
- private:
 
   BandOutput& out_;
   Stats* stats_;
