@@ -135,6 +135,9 @@ FW_FLAGS  := $(CXXSTD) $(WARN) $(INCLUDES) -O2 -g -fno-exceptions -fno-rtti -fno
              -fno-threadsafe-statics -ffunction-sections -fdata-sections
 FW_CPU_m3 := -mcpu=cortex-m3 -mthumb
 FW_CPU_m0 := -mcpu=cortex-m0plus -mthumb
+# The Cortex-M0+ image is built without textures (core/build.h ML_TEXTURES): its scenes have none, and
+# texture mapping, sampling and paging would take 14 KB of its 96 KB budget (docs/firmware.md).
+FW_DEFS_m0 := -DML_TEXTURES=0
 FW_LD     := -nostartfiles --specs=nano.specs -Wl,--gc-sections -Lplatform/cortex-m/common
 FW_COMMON := platform/cortex-m/common/startup.cpp platform/cortex-m/common/semihost.cpp
 FW_PANELS := platform/panels/panel.cpp platform/panels/panel_sink.cpp
@@ -153,14 +156,15 @@ FW_CHECK_CRC ?= 1
 # band or a frame (336 bytes less).
 FW_M0_SIZE_SRC := src/core/pixel_format.cpp src/core/band.cpp src/render/entry.cpp src/scene/reader.cpp
 fw_opt = $(if $(filter src/texture/%,$(1)),-Os -DML_TEXTURE_RUNS_GENERAL_ONLY,$(if $(filter $(addprefix m0:,$(FW_M0_SIZE_SRC)),$(2):$(1)),-Os))
-FW_ELFS := $(FW)/mps2-an385-tiler.elf $(FW)/mps2-an385-scanline.elf $(FW)/mps2-an385-calls.elf $(FW)/lm3s6965evb-tiler.elf $(FW)/lm3s6965evb-scanline.elf $(FW)/m0plus.elf
+FW_ELFS := $(FW)/mps2-an385-tiler.elf $(FW)/mps2-an385-scanline.elf $(FW)/mps2-an385-calls.elf $(FW)/lm3s6965evb-tiler.elf $(FW)/lm3s6965evb-scanline.elf $(FW)/m0plus.elf \
+           $(FW)/m0plus-boxtextured.elf
 
 $(FW)/obj/m3/%.o: %.cpp
 	@mkdir -p $(dir $@)
 	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_m3) $(call fw_opt,$<) -MMD -MP -c $< -o $@
 $(FW)/obj/m0/%.o: %.cpp
 	@mkdir -p $(dir $@)
-	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_m0) $(call fw_opt,$<,m0) -MMD -MP -c $< -o $@
+	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_m0) $(FW_DEFS_m0) $(call fw_opt,$<,m0) -MMD -MP -c $< -o $@
 $(FW)/obj/m3/libmaskline.a: $(call fwo,$(CORE_SRC),m3)
 	@rm -f $@; arm-none-eabi-ar rcs $@ $^
 $(FW)/obj/m0/libmaskline.a: $(call fwo,$(CORE_SRC),m0)
@@ -176,6 +180,12 @@ $(FW)/scenes/default.mls: $(FW)/fwtool
 $(FW)/scenes/small.mls: $(FW)/fwtool
 	@mkdir -p $(dir $@)
 	$(FW)/fwtool scene $(FW_SMALL_SCENE) -o $@
+# A textured model for the Cortex-M0+ image built without textures (tests/firmware: drawn as the same
+# model compiled without its images). Debian's assimp-testmodels (tools/bootstrap.sh).
+FW_TEXTURED_GLB := /usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb
+$(FW)/scenes/boxtextured.mls: $(FW)/fwtool
+	@mkdir -p $(dir $@)
+	$(FW)/fwtool scene $(FW_TEXTURED_GLB) -o $@
 
 # One firmware image: board main compiled with a configuration header, the scene blob, startup and
 # the core. $(1) elf, $(2) cpu, $(3) main source, $(4) config header, $(5) scene, $(6) memory.ld,
@@ -183,7 +193,7 @@ $(FW)/scenes/small.mls: $(FW)/fwtool
 define fw_image
 $(1): $(3) $(4) $(5) $(6) platform/cortex-m/common/scene_blob.S $(call fwo,$(FW_COMMON) $(7),$(2)) $(FW)/obj/$(2)/libmaskline.a $(wildcard src/*/*.h platform/panels/*.h platform/cortex-m/*/*.h platform/cortex-m/common/*.ld)
 	@mkdir -p $$(dir $$@)
-	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_$(2)) $(8) -DFW_CHECK_CRC=$(FW_CHECK_CRC) -include $(4) -c $(3) -o $$(basename $$@)-main.o
+	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_$(2)) $(FW_DEFS_$(2)) $(8) -DFW_CHECK_CRC=$(FW_CHECK_CRC) -include $(4) -c $(3) -o $$(basename $$@)-main.o
 	$(ARM_CXX) $(FW_CPU_$(2)) -DFW_SCENE_FILE='"$(5)"' -c platform/cortex-m/common/scene_blob.S -o $$(basename $$@)-scene.o
 	$(ARM_CXX) $(FW_CPU_$(2)) $(FW_LD) $(8) -T $(6) -Wl,-Map=$$(basename $$@).map -o $$@ $$(basename $$@)-main.o $$(basename $$@)-scene.o $(call fwo,$(FW_COMMON) $(7),$(2)) $(FW)/obj/$(2)/libmaskline.a
 endef
@@ -213,6 +223,7 @@ $(eval $(call fw_image,$(FW)/mps2-an385-calls.elf,m3,platform/cortex-m/mps2-an38
 $(eval $(call fw_image,$(FW)/lm3s6965evb-tiler.elf,m3,platform/cortex-m/lm3s6965evb/main.cpp,$(FW)/config/lm3s-tiler.h,$(FW)/scenes/small.mls,platform/cortex-m/lm3s6965evb/memory.ld,$(FW_PANELS) platform/cortex-m/lm3s6965evb/ssi_transport.cpp))
 $(eval $(call fw_image,$(FW)/lm3s6965evb-scanline.elf,m3,platform/cortex-m/lm3s6965evb/main.cpp,$(FW)/config/lm3s-scanline.h,$(FW)/scenes/small.mls,platform/cortex-m/lm3s6965evb/memory.ld,$(FW_PANELS) platform/cortex-m/lm3s6965evb/ssi_transport.cpp))
 $(eval $(call fw_image,$(FW)/m0plus.elf,m0,platform/cortex-m/m0plus/main.cpp,$(FW)/config/m0plus.h,$(FW)/scenes/small.mls,platform/cortex-m/m0plus/memory.ld,,-Os))
+$(eval $(call fw_image,$(FW)/m0plus-boxtextured.elf,m0,platform/cortex-m/m0plus/main.cpp,$(FW)/config/m0plus.h,$(FW)/scenes/boxtextured.mls,platform/cortex-m/m0plus/memory.ld,,-Os))
 
 # tools/board/render-on-qemu: a scene and options of its own in build/firmware/custom/NAME/
 $(FW)/custom/%/mps2-an385.elf: $(FW)/custom/%/config.h $(FW)/custom/%/scene.mls $(call fwo,$(FW_COMMON),m3) $(FW)/obj/m3/libmaskline.a platform/cortex-m/mps2-an385/main.cpp $(wildcard src/*/*.h platform/cortex-m/*/*.h)

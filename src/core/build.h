@@ -2,6 +2,15 @@
 #pragma once
 #include <stdint.h>
 
+// ML_TEXTURES=0 builds the renderers without texture mapping, sampling and paging: for a board whose
+// scenes have no textures and whose flash is short (the Cortex-M0+ image, docs/firmware.md). Every
+// material is then drawn in its base colour, as in a scene compiled without its images, and each of a
+// scene's textures counts as a fallback (Stats::texture_fallbacks).
+#ifndef ML_TEXTURES
+#define ML_TEXTURES 1
+#endif
+constexpr bool kTextures = ML_TEXTURES != 0;
+
 // A function optimized for size, not speed, on GCC (the boards' flash is short: the Cortex-M0+ image is
 // within a few hundred bytes of its budget). Clang, which the fuzz builds use, has no per-function
 // optimize attribute and warns of it: there the build's own level.

@@ -660,7 +660,7 @@ struct Renderer {
   // --- activation (§3.1, §4.1) ---
   void activate(const YSortEntry& e, int32_t y) {
 #if UINTPTR_MAX > 0xFFFFFFFFu
-    if (tex_of) activate_as<true>(e, y);
+    if (kTextures && tex_of) activate_as<true>(e, y);
     else activate_as<false>(e, y);
 #else
     activate_as<false>(e, y);
@@ -702,7 +702,7 @@ struct Renderer {
       a.vy[i] = t.v[i].y;
     }
     if (t.front_facing) flags |= kFront;
-    if (tex_of) {
+    if (kTextures && tex_of) {
       tex_of[slot] = batch_textures.of_triangle(*scene, id);
       tex_lut[slot] = SlotLut{nullptr, 0, 0, ~0u, 0};
       pager.add_user(tex_of[slot]);
@@ -782,7 +782,7 @@ struct Renderer {
       sample_weights(a, s.lat, x, y, w);
       c = blend_colors(a.color, w);
     }
-    if (tex_of) {
+    if (kTextures && tex_of) {
       const uint32_t slot = uint32_t(&a - act);
       if (tex_of[slot] != kNone) return texture(slot, a.id, x, y, c);
     }
@@ -931,7 +931,7 @@ struct Renderer {
     (void)y;
 #endif
   }
-  bool textured(uint32_t slot) const { return tex_of && tex_of[slot] != kNone; }
+  bool textured(uint32_t slot) const { return kTextures && tex_of && tex_of[slot] != kNone; }
   uint32_t slot_of(const ActiveTri& a) const { return uint32_t(&a - act); }
 
   void mark_drawn(ActiveTri& a) {
@@ -1437,7 +1437,7 @@ struct Renderer {
         const uint32_t slot = ord[r];
         ActiveTri& a = act[slot];
         if (a.max_y < y) {
-          if (tex_of) pager.drop_user(tex_of[slot] & ~kTexReady);
+          if (kTextures && tex_of) pager.drop_user(tex_of[slot] & ~kTexReady);
           a.id = free_head;
           free_head = slot;
         } else {
@@ -1544,7 +1544,7 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
                  start + sizes_for(scene, s, n, m).need());
   };
 
-  if (s.pager_bytes) {
+  if (s.colour) {  // (a scene without texels: nothing; a build without textures: their fallbacks counted)
     st = r.pager.begin(scene, options.texture_source, options.texture_pool_bytes, arena, stats);
     if (!st.ok()) { arena.release_to(start); return too_small(); }
   }

@@ -51,7 +51,7 @@ TexturePoolNeeds texture_pool_needs(const Scene& scene) {
 
 size_t TexturePager::arena_bytes(const Scene& scene, uint32_t pool_bytes) {
   const TexturePoolNeeds needs = texture_pool_needs(scene);
-  if (needs.desired == 0) return 0;
+  if (!kTextures || needs.desired == 0) return 0;
   const size_t n = scene.texture_texels_count;
   return arena_worst_case(min_of(pool_bytes, needs.desired) & ~3u, 4) + arena_worst_case(n * sizeof(Slot), 4) +
          2 * arena_worst_case(n * sizeof(uint32_t), 4) + arena_worst_case(kLutSlots * kTexelLutEntries * sizeof(Pixel), 4) +
@@ -61,6 +61,10 @@ size_t TexturePager::arena_bytes(const Scene& scene, uint32_t pool_bytes) {
 Status TexturePager::begin(const Scene& scene, TextureSource* source, uint32_t pool_bytes, Arena& arena,
                            Stats* stats) {
   *this = TexturePager();
+  if (!kTextures) {  // built without textures (core/build.h): each texture of the scene a fallback
+    if (stats) stats->texture_fallbacks += scene.texture_texels_count;
+    return ok_status();
+  }
   const TexturePoolNeeds needs = texture_pool_needs(scene);
   if (needs.desired == 0) return ok_status();
   scene_ = &scene;

@@ -13,6 +13,7 @@
 #include <stdint.h>
 
 #include "core/arena.h"
+#include "core/build.h"
 #include "core/stats.h"
 #include "core/status.h"
 #include "core/sink.h"
@@ -48,7 +49,7 @@ class TexturePager {
   // own Texels. ArenaTooSmall when the arena cannot hold arena_bytes(). Inactive (every call below a
   // no-op, get() null) for a scene without texels.
   Status begin(const Scene& scene, TextureSource* source, uint32_t pool_bytes, Arena& arena, Stats* stats);
-  bool active() const { return slots_ != nullptr; }
+  bool active() const { return kTextures && slots_ != nullptr; }
 
   // Planning, before the first get(): texture t is used up to row `last_row` (any increasing unit the
   // renderer reports with rows_done).
@@ -63,6 +64,7 @@ class TexturePager {
   // The texture's bytes, reading them if needed; null for a fallback (the read failed or the texture
   // is larger than the pool; counted once per frame and texture).
   const uint8_t* get(uint32_t t) {
+    if (!kTextures) return nullptr;
     if (slots_ && t < count_ && slots_[t].bytes) {  // resident or in place: the common case, inline
       slots_[t].touch = ++clock_;
       return slots_[t].bytes;

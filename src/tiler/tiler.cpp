@@ -151,10 +151,12 @@ class BandWriter : public CoverageWriter {
     triangle_ = triangle;
     front_facing_ = front_facing;
     wrote_piece_ = false;
-    texture_ = pager_ ? batch_textures_.of_triangle(*scene, triangle) : kNone;
+    texture_ = kTextures && pager_ ? batch_textures_.of_triangle(*scene, triangle) : kNone;
     texture_ready_ = false;
     lut_ = nullptr;
   }
+  // Whether the current piece is textured (never without ML_TEXTURES: its paths then compile away).
+  bool textured() const { return kTextures && texture_ != kNone; }
   // The whole triangle's view_triangle for a split piece's texture planes (valid while it is tiled).
   void use_whole_view(const ViewTriangle* whole_view) { whole_view_ = whole_view; }
   // Textured pieces (texture/): the pager, and the view their texture planes are built in.
@@ -217,7 +219,7 @@ class BandWriter : public CoverageWriter {
     // The common block on 64-bit hosts: one sample a pixel, the piece shaded, one colour, quantized
     // already. Its path calls nothing, so it saves no registers: the rest is out of line
     // (2CylinderEngine at 1024x768: 12,167 of 18,608 blocks a frame).
-    if (kLeanBlocks && factor_ == 1 && shaded_ && texture_ == kNone && !colors_.smooth && !cosine_ &&
+    if (kLeanBlocks && factor_ == 1 && shaded_ && !textured() && !colors_.smooth && !cosine_ &&
         out_.mask_value_ready(colors_.flat) && fill_flat(mask, x, band_y)) {
       wrote_piece_ = true;
       return true;
@@ -231,10 +233,10 @@ class BandWriter : public CoverageWriter {
     first_write();
     if (factor_ == 1 && !cosine_) {
       // One colour for the whole block: the mask goes to the band as it is, not run by run.
-      if (texture_ == kNone && !colors_.smooth && fill_flat(mask, x, band_y)) return true;
-      if (texture_ != kNone && !colors_.smooth && write_textured_block(mask, x, band_y + top_)) return true;
+      if (!textured() && !colors_.smooth && fill_flat(mask, x, band_y)) return true;
+      if (textured() && !colors_.smooth && write_textured_block(mask, x, band_y + top_)) return true;
 #if UINTPTR_MAX > 0xFFFFFFFFu
-      if (texture_ == kNone && colors_.smooth) return write_smooth_block(mask, x, band_y + top_);
+      if (!textured() && colors_.smooth) return write_smooth_block(mask, x, band_y + top_);
 #endif
       return CoverageWriter::write_block(mask, x, band_y);
     }
@@ -244,7 +246,7 @@ class BandWriter : public CoverageWriter {
     }
     // The block holds (8 / f)^2 pixels of f x f samples each.
     const int f = factor_, per_side = 8 / f;
-    if (kLeanBlocks && !colors_.smooth && texture_ == kNone) {  // one colour: its channels once a block
+    if (kLeanBlocks && !colors_.smooth && !textured()) {  // one colour: its channels once a block
       add_block_flat(mask, x / f, band_y / f, per_side);
       return true;
     }
@@ -281,7 +283,7 @@ class BandWriter : public CoverageWriter {
   bool write_pixels(int x, int band_y, int w, int h) {
     const int y = band_y + top_;
     stats_->pixel_writes += uint64_t(w) * uint64_t(h);
-    if (texture_ != kNone) {
+    if (textured()) {
       write_textured(x, y, w, h);
       return true;
     }
@@ -323,7 +325,7 @@ class BandWriter : public CoverageWriter {
     explicit Colours(BandWriter* w) : w_(w) {}
     bool flat(Pixel* c) override {
       *c = w_->colors_.flat;
-      return !w_->colors_.smooth && w_->texture_ == kNone;
+      return !w_->colors_.smooth && !w_->textured();
     }
     Pixel colour_at(int px, int py) override { return w_->color_at(px, py); }
 
@@ -333,9 +335,9 @@ class BandWriter : public CoverageWriter {
 
   // Colour of the current piece (or the background) at pixel (px, py) of the frame, textured.
   Pixel color_at(int px, int py) {
-    if (colors_.smooth || texture_ != kNone) ++stats_->shading_calls;
+    if (colors_.smooth || textured()) ++stats_->shading_calls;
     const Pixel c = base_at(px, py);
-    return texture_ != kNone ? texel_at(px, py, c) : c;
+    return textured() ? texel_at(px, py, c) : c;
   }
 
   // The texel at pixel (px, py) modulates colour c (c alone when the pager falls back). Texture

@@ -6,7 +6,8 @@
 #               --format rgb565`'s picture
 #   lm3s6965evb QMP screendump of the SSD0323 OLED (512x256) equals `maskline show --display
 #               emu:ssd0323 --zoom 4`, per renderer
-#   microbit    the Cortex-M0+ build's CRC-32 of its frame equals the host's
+#   microbit    the Cortex-M0+ build's CRC-32 of its frame equals the host's; that build has no textures
+#               (ML_TEXTURES=0), and draws a textured model as the host draws it compiled without images
 #   render-on-qemu with its own camera and options (scanline and tiler, antialiased) equals `maskline render`
 #   every ELF   arm-none-eabi-nm shows no soft-float helper; the board images' code and tables fit 96 KB
 # Usage: tests/firmware/run.sh BUILD
@@ -31,12 +32,12 @@ not_ok() { echo "not ok $1: $2"; failed=1; }
 missing=""
 command -v qemu-system-arm >/dev/null || missing="qemu-system-arm is not installed"
 command -v arm-none-eabi-nm >/dev/null || missing="arm-none-eabi-nm is not installed"
-for f in "$fwtool" "$fw/mps2-an385-tiler.elf" "$fw/mps2-an385-scanline.elf" "$fw/lm3s6965evb-tiler.elf" "$fw/lm3s6965evb-scanline.elf" "$fw/m0plus.elf"; do
+for f in "$fwtool" "$fw/mps2-an385-tiler.elf" "$fw/mps2-an385-scanline.elf" "$fw/lm3s6965evb-tiler.elf" "$fw/lm3s6965evb-scanline.elf" "$fw/m0plus.elf" "$fw/m0plus-boxtextured.elf"; do
   [ -e "$f" ] || missing="$f is missing (make firmware)"
 done
 if [ -n "$missing" ]; then
   for n in mps2-tiler-bytes mps2-scanline-bytes mps2-tiler-picture mps2-scanline-picture lm3s-tiler-oled \
-    lm3s-scanline-oled m0plus-microbit-crc render-on-qemu render-on-qemu-tiler-aa render-on-qemu-textured-tiler \
+    lm3s-scanline-oled m0plus-microbit-crc m0plus-without-textures render-on-qemu render-on-qemu-tiler-aa render-on-qemu-textured-tiler \
     render-on-qemu-textured-scanline render-on-qemu-small-textured-tiler render-on-qemu-small-textured-scanline \
     render-on-qemu-duck-tiler render-on-qemu-duck-scanline flash-budget no-soft-float; do
     not_ok "$n" "$missing"
@@ -123,6 +124,29 @@ if (cd "$run/m0plus" && timeout "$limit" qemu-system-arm -M microbit -nographic 
   else not_ok "$name" "board CRC '$board', host CRC '$host'"; fi
 else
   not_ok "$name" "QEMU exited with status $? ($(tail -1 "$run/m0plus/out.txt" 2>/dev/null))"
+fi
+
+# ---- Cortex-M0+ without textures: a textured model in its base colours, the fallback counted -----------
+name="m0plus-without-textures"
+dir="$run/m0plus-boxtextured"
+mkdir -p "$dir"
+glb=$(sed -n 's/^FW_TEXTURED_GLB := //p' "$here/../../Makefile")
+if (cd "$dir" && timeout "$limit" qemu-system-arm -M microbit -nographic "${qemu_semihosting[@]}" \
+  -kernel "$fw/m0plus-boxtextured.elf" >out.txt 2>err.txt); then
+  board=$(sed -n 's/^frame tiler .* crc \(0x[0-9a-f]*\).*/\1/p' "$dir/out.txt")
+  fallbacks=$(grep -o '"texture_fallbacks":[0-9]*' "$dir/out.txt" | cut -d: -f2)
+  "$fwtool" scene "plain:$glb" -o "$dir/plain.mls" >/dev/null 2>&1
+  "$fwtool" ref "$dir/plain.mls" --renderer tiler --size 128x64 --format grey4 -o "$dir/plain.raw" >/dev/null 2>&1
+  "$fwtool" ref "$fw/scenes/boxtextured.mls" --renderer tiler --size 128x64 --format grey4 -o "$dir/textured.raw" \
+    >/dev/null 2>&1
+  plain=$("$fwtool" crc "$dir/plain.raw" 2>&1)
+  textured=$("$fwtool" crc "$dir/textured.raw" 2>&1)
+  if [ -z "$board" ] || [ "$board" != "$plain" ]; then not_ok "$name" "board CRC '$board', host without images '$plain'"
+  elif [ "$plain" = "$textured" ]; then not_ok "$name" "the model looks the same with and without its texture ($plain)"
+  elif [ "$fallbacks" != 1 ]; then not_ok "$name" "texture_fallbacks '$fallbacks', expected 1 (its one texture)"
+  else ok "$name" "CRC $board equals the host's frame of the model without images (textured: $textured); 1 fallback"; fi
+else
+  not_ok "$name" "QEMU exited with status $? ($(tail -1 "$dir/out.txt" 2>/dev/null))"
 fi
 
 # ---- tools/board/render-on-qemu: own camera and options, against maskline render -----------------------

@@ -174,14 +174,27 @@ class BytesSink : public ml::Sink {
   uint32_t row_bytes_ = 0;
 };
 
+// A glTF file compiled without its images: every material in its base colour, as a build without
+// textures (ML_TEXTURES=0) draws it.
+ml::CompileResult compile_without_images(const std::string& path) {
+  ml::SceneMesh mesh;
+  std::vector<std::string> warnings;
+  ml::CompileResult failed;
+  if (!ml::import_gltf_file(path, &mesh, &warnings, &failed.error)) return failed;
+  mesh.images.clear();
+  return ml::compile_mesh(mesh);
+}
+
 int cmd_scene(const Options& o) {
   const std::string* out = get(o, "-o");
-  if (o.positional.size() != 1 || !out) die("usage: fwtool scene default|knot:N|office:L|FILE.glb -o OUT.mls", 2);
+  if (o.positional.size() != 1 || !out)
+    die("usage: fwtool scene default|knot:N|office:L|FILE.glb|plain:FILE.glb -o OUT.mls", 2);
   const std::string& spec = o.positional[0];
   ml::CompileResult result;
   if (spec == "default") result = ml::build_default_scene();
   else if (spec.rfind("knot:", 0) == 0) result = ml::build_tessellated_scene(uint32_t(atoi(spec.c_str() + 5)));
   else if (spec.rfind("office:", 0) == 0) result = ml::build_office_scene(atoi(spec.c_str() + 7));
+  else if (spec.rfind("plain:", 0) == 0) result = compile_without_images(spec.substr(6));
   else result = ml::compile_gltf_file(spec);
   if (!result.ok) die(spec + ": " + result.error);
   std::string error;
