@@ -136,7 +136,7 @@ FW_FLAGS  := $(CXXSTD) $(WARN) $(INCLUDES) -O2 -g -fno-exceptions -fno-rtti -fno
 FW_CPU_m3 := -mcpu=cortex-m3 -mthumb
 FW_CPU_m0 := -mcpu=cortex-m0plus -mthumb
 # The Cortex-M0+ image is built without textures (core/build.h ML_TEXTURES): its scenes have none, and
-# texture mapping, sampling and paging would take 14 KB of its 96 KB budget (docs/firmware.md).
+# texture mapping, sampling and paging would take 17 KB of its 96 KB budget (docs/firmware.md).
 FW_DEFS_m0 := -DML_TEXTURES=0
 FW_LD     := -nostartfiles --specs=nano.specs -Wl,--gc-sections -Lplatform/cortex-m/common
 FW_COMMON := platform/cortex-m/common/startup.cpp platform/cortex-m/common/semihost.cpp
@@ -150,12 +150,8 @@ FW_SMALL_SCENE ?= default
 FW_CHECK_CRC ?= 1
 # Texture mapping, sampling and paging are compiled for size on the boards (their scenes have no
 # textures; at -O2 src/texture/ is 21 KB of Thumb-1 code, at -Os 10 KB), and the sampler without its
-# runs specialized by wrap mode (10 KB more): the same integer results. On the Cortex-M0+ (the
-# tightest flash budget, docs/firmware.md) pixel packing is compiled for size too (880 bytes less;
-# its frame 26.56 M -> 26.80 M instructions), and the band output and render entry, which run once a
-# band or a frame (336 bytes less).
-FW_M0_SIZE_SRC := src/core/pixel_format.cpp src/core/band.cpp src/render/entry.cpp src/scene/reader.cpp
-fw_opt = $(if $(filter src/texture/%,$(1)),-Os -DML_TEXTURE_RUNS_GENERAL_ONLY,$(if $(filter $(addprefix m0:,$(FW_M0_SIZE_SRC)),$(2):$(1)),-Os))
+# runs specialized by wrap mode (10 KB more): the same integer results.
+fw_opt = $(if $(filter src/texture/%,$(1)),-Os -DML_TEXTURE_RUNS_GENERAL_ONLY)
 FW_ELFS := $(FW)/mps2-an385-tiler.elf $(FW)/mps2-an385-scanline.elf $(FW)/mps2-an385-calls.elf $(FW)/lm3s6965evb-tiler.elf $(FW)/lm3s6965evb-scanline.elf $(FW)/m0plus.elf \
            $(FW)/m0plus-boxtextured.elf
 
@@ -164,7 +160,7 @@ $(FW)/obj/m3/%.o: %.cpp
 	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_m3) $(call fw_opt,$<) -MMD -MP -c $< -o $@
 $(FW)/obj/m0/%.o: %.cpp
 	@mkdir -p $(dir $@)
-	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_m0) $(FW_DEFS_m0) $(call fw_opt,$<,m0) -MMD -MP -c $< -o $@
+	$(ARM_CXX) $(FW_FLAGS) $(FW_CPU_m0) $(FW_DEFS_m0) $(call fw_opt,$<) -MMD -MP -c $< -o $@
 $(FW)/obj/m3/libmaskline.a: $(call fwo,$(CORE_SRC),m3)
 	@rm -f $@; arm-none-eabi-ar rcs $@ $^
 $(FW)/obj/m0/libmaskline.a: $(call fwo,$(CORE_SRC),m0)

@@ -11,8 +11,7 @@
 #endif
 constexpr bool kTextures = ML_TEXTURES != 0;
 
-// A function optimized for size, not speed, on GCC (the boards' flash is short: the Cortex-M0+ image is
-// within a few hundred bytes of its budget). Clang, which the fuzz builds use, has no per-function
+// A function optimized for size, not speed, on GCC (rare code; the boards' flash is short). Clang, which the fuzz builds use, has no per-function
 // optimize attribute and warns of it: there the build's own level.
 #if defined(__GNUC__) && !defined(__clang__)
 #define ML_OPTIMIZE_SIZE [[gnu::optimize("Os")]]
@@ -28,30 +27,6 @@ constexpr bool kTextures = ML_TEXTURES != 0;
 #else
 #define ML_HOST_INLINE
 #define ML_HOST_NOINLINE
-#endif
-
-// The Cortex-M0+ image (v6-M) is within a few hundred bytes of its flash budget; the Cortex-M3 images
-// have room. ML_TIGHT_FLASH: building for the former.
-#if UINTPTR_MAX == 0xFFFFFFFFu && defined(__ARM_ARCH_6M__)
-#define ML_TIGHT_FLASH 1
-#else
-#define ML_TIGHT_FLASH 0
-#endif
-
-// Out of line where flash is tight (one copy for a function inlined at several calls), the
-// compiler's choice elsewhere (the Cortex-M3 images: the bundled scene's tiler frame 0.4 % faster).
-#if ML_TIGHT_FLASH
-#define ML_TIGHT_FLASH_NOINLINE [[gnu::noinline]]
-#else
-#define ML_TIGHT_FLASH_NOINLINE
-#endif
-
-// Optimized for size where flash is tight, the build's level elsewhere (with ML_TIGHT_FLASH_NOINLINE:
-// a helper kept as one small copy there and inlined as the compiler sees fit elsewhere).
-#if ML_TIGHT_FLASH
-#define ML_TIGHT_FLASH_SIZE ML_OPTIMIZE_SIZE
-#else
-#define ML_TIGHT_FLASH_SIZE
 #endif
 
 // Before a loop of a few passes written as a loop for the boards' flash: unrolled on 64-bit hosts,

@@ -73,9 +73,8 @@ class PixelPacker {
   // the format has less than 16 bits a pixel (grey dithers by default; one loop less in a board's flash):
   // then the caller fills the mask's runs.
   // Inline on 64-bit hosts: a tiled block's call and its saved registers cost as much as its stores
-  // (2CylinderEngine at 1024x768: 18,608 blocks). On the boards one copy, optimized for size (the
-  // Cortex-M0+ image's flash, as Makefile's FW_M0_SIZE_SRC).
-  ML_HOST_INLINE ML_TIGHT_FLASH_NOINLINE ML_TIGHT_FLASH_SIZE int fill_mask(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, Pixel value) {
+  // (2CylinderEngine at 1024x768: 18,608 blocks).
+  ML_HOST_INLINE int fill_mask(uint8_t* band, uint32_t stride, int x, int row, uint64_t mask, Pixel value) {
     if (mask_bytes_ == 0) return -1;
     if (!mask_value_ready(value)) quantize_mask_value(value);
     // A local copy: the band's bytes cannot alias it, so it stays in a register through the stores.

@@ -432,8 +432,8 @@ void bsp_node_box(const Scene& s, uint32_t i, BspNode* node) {
   if (s.wide) scene_detail::node_box<uint32_t>(s, i, node); else scene_detail::node_box<uint16_t>(s, i, node);
 }
 
-// Small rather than fast (a test a node entered, not a piece): the M0+ image has little flash to spare
-// (on the host -O2 is no faster: 2CylinderEngine's frame 55.37 M -> 55.40 M).
+// Small rather than fast (a test a node entered, not a piece): the boards' flash is short (on the
+// host -O2 is no faster: 2CylinderEngine's frame 55.37 M -> 55.40 M).
 ML_OPTIMIZE_SIZE bool bsp_subtree_faces_away(const Scene& s, uint32_t i, const Vec3i& eye) {
   if (!s.bsp_cones || s.bsp_cones[i].spread == kNoCone) return false;
   const PackedBspCone& cone = s.bsp_cones[i];

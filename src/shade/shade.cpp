@@ -16,8 +16,7 @@ Vec3i combine(const Vec3i& a, int wa, const Vec3i& b, int wb, const Vec3i& c, in
 
 }  // namespace
 
-// Once a frame: for size where flash is tight.
-ML_TIGHT_FLASH_SIZE Light make_light(const View& view) {
+Light make_light(const View& view) {
   Light light;
   // Towards the light: up (-down), to the left (-right) and back towards the viewer (-forward).
   const Vec3i dir = combine(negate(view.down), 10, negate(view.right), 6, negate(view.forward), 7);

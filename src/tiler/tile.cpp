@@ -825,7 +825,7 @@ inline bool HierTiler::set_in_parent(int l, int mx, int my, bool all_covered, bo
 
 // Whether a cell's ancestor (a subcell of a coarser mask on its path) is covered: the cell's contents
 // may then be stale.
-ML_TIGHT_FLASH_NOINLINE ML_TIGHT_FLASH_SIZE inline bool HierTiler::covered_above(int level, int mx, int my) const {
+inline bool HierTiler::covered_above(int level, int mx, int my) const {
   for (int l = 0, d = 3 * (level - 1); l < level; ++l, d -= 3) {
     const int cx = mx >> d, cy = my >> d;  // the level-(l + 1) cell on the path: a subcell of mask l
     if ((pyr_->mask(l, cx >> 3, cy >> 3).c >> ((cy & 7) * 8 + (cx & 7))) & 1) return true;
@@ -922,9 +922,8 @@ ML_HOST_NOINLINE inline bool HierTiler::tile_wide(const ConvexPoly& poly, Covera
 
 // Samples already covered in finest block (bx, by): all of them when an ancestor is covered. Blocks share
 // their parent's ancestors (a small polygon's box has at most 3 x 3 parents): those are looked up once a
-// parent, as the parent's covered blocks, kept in *parent. Out of line and small where flash is tight, as is
-// covered_above: tile_small asks it at two places (the Cortex-M0+ image's flash).
-ML_TIGHT_FLASH_NOINLINE ML_TIGHT_FLASH_SIZE inline uint64_t HierTiler::block_done(int bx, int by, ParentCover* parent) const {
+// parent, as the parent's covered blocks, kept in *parent.
+inline uint64_t HierTiler::block_done(int bx, int by, ParentCover* parent) const {
   if ((bx >> 3) != parent->x || (by >> 3) != parent->y) {
     const int f = pyr_->layout.finest();
     parent->x = bx >> 3;

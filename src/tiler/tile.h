@@ -71,10 +71,9 @@ inline SampleGrid sample_grid(int factor, int width, int height, bool jittered) 
 
 // The box of poly_in_samples alone, from a triangle's extent in subpixels (its vertices' smallest and
 // largest x and y, |values| < 2^30: projected vertices lie inside the guard band): the samples of grid g
-// it can cover, clipped to the screen; empty when min > max. 32-bit arithmetic; one out-of-line copy on
-// the Cortex-M0+ (as triangle_grid_box), whose flash holds no more inline copies.
-ML_TIGHT_FLASH_NOINLINE inline void grid_box(const SampleGrid& g, int32_t min_x, int32_t min_y, int32_t max_x,
-                                             int32_t max_y, ConvexPoly* out) {
+// it can cover, clipped to the screen; empty when min > max. 32-bit arithmetic.
+inline void grid_box(const SampleGrid& g, int32_t min_x, int32_t min_y, int32_t max_x, int32_t max_y,
+                     ConvexPoly* out) {
   // Sample centres s * pitch + pitch / 2 inside [min, max] (setup_triangle's pixel box when factor is
   // 1); jittered samples anywhere in their cells [s * pitch, (s + 1) * pitch). The pitch is a power of
   // two: floors are arithmetic shifts.
@@ -94,7 +93,7 @@ inline void sample_box(int32_t min_x, int32_t min_y, int32_t max_x, int32_t max_
 }
 
 // grid_box of a screen triangle's vertices (poly_in_samples's box).
-ML_TIGHT_FLASH_NOINLINE inline void triangle_grid_box(const SampleGrid& g, const ScreenTriangle& tri, ConvexPoly* out) {
+inline void triangle_grid_box(const SampleGrid& g, const ScreenTriangle& tri, ConvexPoly* out) {
   int32_t min_x = tri.v[0].x, max_x = min_x, min_y = tri.v[0].y, max_y = min_y;
   for (int i = 1; i < 3; ++i) {
     min_x = min_of(min_x, tri.v[i].x);

@@ -185,7 +185,7 @@ class BandWriter : public CoverageWriter {
   // The box filter's pixels of the band that took their samples one by one (add_to_pixel; a pixel a
   // piece or the background covers whole is written at once, write_pixels), once the background has
   // covered the band's last samples: each the mean of its samples, rounded, a run of a row at a time.
-  ML_TIGHT_FLASH_NOINLINE ML_TIGHT_FLASH_SIZE void finish_pixels() {
+  void finish_pixels() {
     if (cosine_) return cosine_->end_band();
     if (factor_ == 1) return;
     const uint32_t half = (1u << factor_bits_) >> 1;
@@ -271,8 +271,7 @@ class BandWriter : public CoverageWriter {
     wrote_piece_ = true;
     if (!shaded_) shade();
   }
-  // Out of line where flash is tight: first_write is inlined in every write.
-  ML_TIGHT_FLASH_NOINLINE void shade() {
+  void shade() {
     shade_triangle(*scene_, *light_, mode_, triangle_, front_facing_, &colors_, world_);
     shaded_ = true;
     shaded_triangle_ = triangle_;
@@ -1258,7 +1257,7 @@ class TilerFrame {
   // A split piece's part whose whole triangle projects in several parts, tiled in each with its colour
   // planes; false when the sink refused a write.
   // Out of line and optimized for size: rare (triangles the near plane or the guard band cuts), off
-  // the walk's loop (m0plus: 278 bytes, 312 at -O2; that image is within a few hundred bytes of its budget).
+  // the walk's loop (m0plus: 278 bytes, 312 at -O2).
   [[gnu::noinline]] ML_OPTIMIZE_SIZE bool tile_in_whole_parts(ConvexPoly* poly, const ScreenTriangle* whole_parts, int count,
                                              const Vec3i* world);
   // The rows rendered at once: the most whole bands whose extra arena bytes (tiler_render_rows_bytes)
@@ -1284,9 +1283,8 @@ class TilerFrame {
     if (plan_.active()) plan_.set(index, plan_.no_band());
     return true;
   }
-  // The texture a triangle is drawn with: kNone for an invisible material's (never drawn). One copy
-  // for its three calls where flash is tight.
-  ML_TIGHT_FLASH_NOINLINE uint32_t drawn_texture(BatchTextures& textures, uint32_t triangle) const {
+  // The texture a triangle is drawn with: kNone for an invisible material's (never drawn).
+  uint32_t drawn_texture(BatchTextures& textures, uint32_t triangle) const {
     if (hides_ && material_hidden(triangle_material(scene_, triangle))) return kNone;
     return textures.of_triangle(scene_, triangle);
   }

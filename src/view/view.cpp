@@ -118,8 +118,7 @@ int64_t signed_area2(const ScreenVertex& a, const ScreenVertex& b, const ScreenV
 
 }  // namespace
 
-// Once a frame, as frame_sphere: for size where flash is tight.
-ML_TIGHT_FLASH_SIZE Status make_view(const Camera& camera, View* out) {
+Status make_view(const Camera& camera, View* out) {
   if (camera.width < 1 || camera.height < 1 || camera.width > kMaxScreenDim || camera.height > kMaxScreenDim)
     return error(StatusCode::InvalidArgument, "screen size must be 1..4096 per side");
   if (camera.fov_deg_q16 < (1 << kAngleBits) || camera.fov_deg_q16 > (170 << kAngleBits))
@@ -156,7 +155,7 @@ ML_TIGHT_FLASH_SIZE Status make_view(const Camera& camera, View* out) {
   return ok_status();
 }
 
-ML_TIGHT_FLASH_SIZE Camera frame_sphere(const Vec3i& center, int32_t radius, int width, int height, int32_t fov_deg_q16) {
+Camera frame_sphere(const Vec3i& center, int32_t radius, int width, int height, int32_t fov_deg_q16) {
   Camera c;
   c.width = width;
   c.height = height;
