@@ -11,8 +11,8 @@
 #endif
 constexpr bool kTextures = ML_TEXTURES != 0;
 
-// A function optimized for size, not speed, on GCC (rare code; the boards' flash is short). Clang, which the fuzz builds use, has no per-function
-// optimize attribute and warns of it: there the build's own level.
+// A function optimized for size, not speed, on GCC (rare code; the boards' flash is short). Clang, which
+// the fuzz builds use, has no per-function optimize attribute and warns of it: there the build's own level.
 #if defined(__GNUC__) && !defined(__clang__)
 #define ML_OPTIMIZE_SIZE [[gnu::optimize("Os")]]
 #else
