@@ -143,7 +143,8 @@ FW_COMMON := platform/cortex-m/common/startup.cpp platform/cortex-m/common/semih
 FW_PANELS := platform/panels/panel.cpp platform/panels/panel_sink.cpp
 fwo = $(patsubst %.cpp,$(FW)/obj/$(2)/%.o,$(1))
 # Scenes in flash: the bundled default on every board (107 KB packed, so it fits the 256 KB boards
-# too); FW_SMALL_SCENE replaces it on the 256 KB boards (any `fwtool scene` argument, e.g. office:1).
+# too); FW_SMALL_SCENE replaces it on the 256 KB boards (any `fwtool scene` argument, e.g. office:1 or
+# plain:FILE.glb, a model without its texels).
 FW_SMALL_SCENE ?= default
 # FW_CHECK_CRC=0: the firmware skips the CRC-32 over the whole blob at boot (read_scene's structural
 # checks still run).

@@ -65,7 +65,8 @@ const char* const kCompileHelp =
     "transform, triangle primitives, materials, textures, a BSP tree. Prints a summary; warnings go to\n"
     "stderr.\n"
     "  --texture-format F   auto (default: grey4 for grey images of <= 16 levels, palette8 for <= 256\n"
-    "                       colours, else rgb565), rgb565, palette8 (median cut), grey4\n"
+    "                       colours, else rgb565), rgb565, palette8 (median cut), grey4, or none (no\n"
+    "                       texels: base colours, for a board built without textures)\n"
     "  --texture-max N      longest texture side after resampling to powers of two, 1..1024 (default 256)\n";
 
 const char* const kInfoHelp =
@@ -369,7 +370,8 @@ int cmd_compile(int argc, char** argv) {
     else if (*v == "rgb565") options.texture_format = ml::TextureFormatChoice::Rgb565;
     else if (*v == "palette8") options.texture_format = ml::TextureFormatChoice::Palette8;
     else if (*v == "grey4") options.texture_format = ml::TextureFormatChoice::Grey4;
-    else usage_error("--texture-format: expected auto, rgb565, palette8 or grey4, got '" + *v + "'");
+    else if (*v == "none") options.texture_format = ml::TextureFormatChoice::None;
+    else usage_error("--texture-format: expected auto, rgb565, palette8, grey4 or none, got '" + *v + "'");
   }
   if (const auto* v = find_option(a, "--texture-max"))
     options.texture_max_size = int(parse_integer("--texture-max", *v, 1, ml::kMaxTextureDim));

@@ -5,7 +5,7 @@
 // ML_TEXTURES=0 builds the renderers without texture mapping, sampling and paging: for a board whose
 // scenes have no textures and whose flash is short (the Cortex-M0+ image, docs/firmware.md). Every
 // material is then drawn in its base colour, as in a scene compiled without its images, and each of a
-// scene's textures counts as a fallback (Stats::texture_fallbacks).
+// scene's textures with texels counts as a fallback (Stats::texture_fallbacks).
 #ifndef ML_TEXTURES
 #define ML_TEXTURES 1
 #endif

@@ -61,8 +61,9 @@ size_t TexturePager::arena_bytes(const Scene& scene, uint32_t pool_bytes) {
 Status TexturePager::begin(const Scene& scene, TextureSource* source, uint32_t pool_bytes, Arena& arena,
                            Stats* stats) {
   *this = TexturePager();
-  if (!kTextures) {  // built without textures (core/build.h): each texture of the scene a fallback
-    if (stats) stats->texture_fallbacks += scene.texture_texels_count;
+  if (!kTextures) {  // built without textures (core/build.h): each texture with texels a fallback
+    for (uint32_t t = 0; stats && t < scene.texture_texels_count; ++t)
+      if (pool_size(scene.texture_texels[t]) > 0) ++stats->texture_fallbacks;
     return ok_status();
   }
   const TexturePoolNeeds needs = texture_pool_needs(scene);

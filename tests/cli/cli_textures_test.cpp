@@ -49,6 +49,32 @@ TEST_F(CliTextures, CompileFormatsAndFileSourceGiveTheSamePicture) {
   EXPECT_EQ(clitest::json_int(tiny.out, "texture_fallbacks"), 1);
 }
 
+// --texture-format none: no texels in the blob, each material in its base colour, as a frame draws a
+// texture it cannot read (a fallback) and as a build without textures (ML_TEXTURES=0) draws it.
+TEST_F(CliTextures, CompileWithoutTexelsDrawsBaseColours) {
+  if (!clitest::file_exists(kBoxTextured)) GTEST_SKIP() << "assimp-testmodels not installed";
+  const RunResult none = run_cli({"compile", kBoxTextured, "-o", path("none.mls"), "--texture-format", "none"});
+  ASSERT_EQ(none.exit_code, 0) << none.describe();
+  const RunResult textured = run_cli({"compile", kBoxTextured, "-o", path("box.mls")});
+  ASSERT_EQ(textured.exit_code, 0) << textured.describe();
+  EXPECT_LT(clitest::read_bytes(path("none.mls")).size(), 2000u);  // the textured blob: 66,680 bytes
+  EXPECT_GT(clitest::read_bytes(path("box.mls")).size(), 60000u);
+  for (const char* renderer : {"tiler", "scanline"}) {
+    const RunResult plain = run_cli({"render", path("none.mls"), "--renderer", renderer, "--size", "96x72", "-o",
+                                     path("plain.png"), "--stats"});
+    const RunResult fallback = run_cli({"render", path("box.mls"), "--renderer", renderer, "--size", "96x72", "-o",
+                                        path("fallback.png"), "--texture-pool", "1000"});
+    const RunResult texels = run_cli({"render", path("box.mls"), "--renderer", renderer, "--size", "96x72", "-o",
+                                      path("texels.png")});
+    ASSERT_EQ(plain.exit_code, 0) << plain.describe();
+    ASSERT_EQ(fallback.exit_code, 0) << fallback.describe();
+    ASSERT_EQ(texels.exit_code, 0) << texels.describe();
+    EXPECT_EQ(clitest::json_int(plain.out, "texture_fallbacks"), 0) << renderer;
+    EXPECT_EQ(clitest::read_bytes(path("plain.png")), clitest::read_bytes(path("fallback.png"))) << renderer;
+    EXPECT_NE(clitest::read_bytes(path("plain.png")), clitest::read_bytes(path("texels.png"))) << renderer;
+  }
+}
+
 TEST_F(CliTextures, BadTextureOptionsAreUsageErrors) {
   clitest::expect_one_line_error(run_cli({"render", "builtin:banded", "--texture-source", "file"}), 2, "needs a .mls");
   clitest::expect_one_line_error(run_cli({"render", "--texture-source", "flash"}), 2, "--texture-source");

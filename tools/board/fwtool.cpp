@@ -177,12 +177,9 @@ class BytesSink : public ml::Sink {
 // A glTF file compiled without its images: every material in its base colour, as a build without
 // textures (ML_TEXTURES=0) draws it.
 ml::CompileResult compile_without_images(const std::string& path) {
-  ml::SceneMesh mesh;
-  std::vector<std::string> warnings;
-  ml::CompileResult failed;
-  if (!ml::import_gltf_file(path, &mesh, &warnings, &failed.error)) return failed;
-  mesh.images.clear();
-  return ml::compile_mesh(mesh);
+  ml::CompileOptions options;
+  options.texture_format = ml::TextureFormatChoice::None;
+  return ml::compile_gltf_file(path, options);
 }
 
 int cmd_scene(const Options& o) {

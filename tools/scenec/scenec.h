@@ -139,6 +139,7 @@ enum class TextureFormatChoice : uint8_t {
   Rgb565,
   Palette8,  // median-cut to at most 256 colours
   Grey4,     // luma, 16 levels (grey panels)
+  None,      // no texels: every material in its base colour (for a build without textures, ML_TEXTURES=0)
 };
 
 struct CompileOptions {

@@ -149,6 +149,7 @@ EncodedTexture encode_texture(const MeshImage& image, const MeshSampler& sampler
     case TextureFormatChoice::Rgb565: format = TexelFormat::Rgb565; break;
     case TextureFormatChoice::Palette8: format = TexelFormat::Palette8; break;
     case TextureFormatChoice::Grey4: format = TexelFormat::Grey4; break;
+    case TextureFormatChoice::None:  // (compile_mesh passes no image then)
     case TextureFormatChoice::Auto:
       format = grey && greys.size() <= 16 ? TexelFormat::Grey4
                : histogram.size() <= 256  ? TexelFormat::Palette8

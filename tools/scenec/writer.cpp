@@ -360,7 +360,8 @@ CompileResult compile_mesh(const SceneMesh& mesh, const CompileOptions& options)
     for (size_t t = 0; t < mesh.texture_images.size(); ++t) {
       const uint32_t image = mesh.texture_images[t];
       const MeshImage none;
-      const MeshImage& img = image < mesh.images.size() ? mesh.images[image] : none;
+      const bool keep = options.texture_format != TextureFormatChoice::None && image < mesh.images.size();
+      const MeshImage& img = keep ? mesh.images[image] : none;
       const MeshSampler sampler = t < mesh.texture_samplers.size() ? mesh.texture_samplers[t] : MeshSampler();
       EncodedTexture enc = encode_texture(img, sampler, options);
       if (enc.info.format != uint8_t(TexelFormat::None)) {
