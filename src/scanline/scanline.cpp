@@ -660,7 +660,7 @@ struct Renderer {
   // --- activation (§3.1, §4.1) ---
   void activate(const YSortEntry& e, int32_t y) {
 #if UINTPTR_MAX > 0xFFFFFFFFu
-    if (kTextures && tex_of) activate_as<true>(e, y);
+    if (texturing()) activate_as<true>(e, y);
     else activate_as<false>(e, y);
 #else
     activate_as<false>(e, y);
@@ -702,7 +702,7 @@ struct Renderer {
       a.vy[i] = t.v[i].y;
     }
     if (t.front_facing) flags |= kFront;
-    if (kTextures && tex_of) {
+    if (texturing()) {
       tex_of[slot] = batch_textures.of_triangle(*scene, id);
       tex_lut[slot] = SlotLut{nullptr, 0, 0, ~0u, 0};
       pager.add_user(tex_of[slot]);
@@ -768,21 +768,25 @@ struct Renderer {
     a.flags |= kColorsReady;
   }
 
+  // A Gouraud piece's weight reciprocal (prepare_weights), made at its first smooth sample: one a
+  // piece, no division a sample.
+  void ready_weights(ActiveTri& a) {
+    if (a.flags & kWeightsReady) return;
+    prepare_weights(&a, s.lat);
+    a.flags |= kWeightsReady;
+  }
   // One shading call (§4.4): the colour of piece `a` at sample (x, y).
   Pixel shade(ActiveTri& a, int32_t x, int32_t y) {
     ++stats->shading_calls;
     ensure_colors(a);
     Pixel c = a.color[0];
     if (a.flags & kSmooth) {
-      if (!(a.flags & kWeightsReady)) {
-        prepare_weights(&a, s.lat);  // one reciprocal a piece, no division a sample
-        a.flags |= kWeightsReady;
-      }
+      ready_weights(a);
       int32_t w[3];
       sample_weights(a, s.lat, x, y, w);
       c = blend_colors(a.color, w);
     }
-    if (kTextures && tex_of) {
+    if (texturing()) {
       const uint32_t slot = uint32_t(&a - act);
       if (tex_of[slot] != kNone) return texture(slot, a.id, x, y, c);
     }
@@ -931,7 +935,10 @@ struct Renderer {
     (void)y;
 #endif
   }
-  bool textured(uint32_t slot) const { return kTextures && tex_of && tex_of[slot] != kNone; }
+  // Whether this frame textures at all (never in a build without textures: its paths compile away),
+  // and whether the piece in `slot` is textured.
+  bool texturing() const { return kTextures && tex_of != nullptr; }
+  bool textured(uint32_t slot) const { return texturing() && tex_of[slot] != kNone; }
   uint32_t slot_of(const ActiveTri& a) const { return uint32_t(&a - act); }
 
   void mark_drawn(ActiveTri& a) {
@@ -1142,10 +1149,7 @@ struct Renderer {
       }
       if (!has_texture) {  // Gouraud: shade()'s colours, the row's weights stepped (smooth_run)
         stats->shading_calls += uint64_t(x1 - x0 + 1);
-        if (!(a.flags & kWeightsReady)) {
-          prepare_weights(&a, s.lat);
-          a.flags |= kWeightsReady;
-        }
+        ready_weights(a);
         smooth_run(a, s.lat, x0, x1, y, keep_surface);
         return;
       }
@@ -1437,7 +1441,7 @@ struct Renderer {
         const uint32_t slot = ord[r];
         ActiveTri& a = act[slot];
         if (a.max_y < y) {
-          if (kTextures && tex_of) pager.drop_user(tex_of[slot] & ~kTexReady);
+          if (texturing()) pager.drop_user(tex_of[slot] & ~kTexReady);
           a.id = free_head;
           free_head = slot;
         } else {

@@ -290,10 +290,7 @@ class BandWriter : public CoverageWriter {
       out_.fill(x, y, w, h, colors_.flat);
       return true;
     }
-    if (!planes_ready_) {
-      make_color_planes(*part_, colors_, &planes_);
-      planes_ready_ = true;
-    }
+    ready_planes();
     stats_->shading_calls += uint64_t(w) * uint64_t(h);
     for (int yy = y; yy < y + h; ++yy)
       for (int x0 = x; x0 < x + w; x0 += kRowPixels) {
@@ -306,13 +303,18 @@ class BandWriter : public CoverageWriter {
   }
 
  private:
-  // The colour before texturing at pixel (px, py) of the frame: flat, or the planes of a smooth piece.
-  Pixel base_at(int px, int py) {
-    if (!colors_.smooth) return colors_.flat;
+  // The current part's colour planes (a smooth piece's), made at its first use.
+  const ColorPlanes& ready_planes() {
     if (!planes_ready_) {
       make_color_planes(*part_, colors_, &planes_);
       planes_ready_ = true;
     }
+    return planes_;
+  }
+  // The colour before texturing at pixel (px, py) of the frame: flat, or the planes of a smooth piece.
+  Pixel base_at(int px, int py) {
+    if (!colors_.smooth) return colors_.flat;
+    ready_planes();
     uint32_t ch[3];
     for (int c = 0; c < 3; ++c) ch[c] = uint32_t(clamp_to(planes_.channel[c].at(px, py), 0, 255));
     return rgb(ch[0], ch[1], ch[2]);
@@ -435,10 +437,7 @@ class BandWriter : public CoverageWriter {
   // instead of a write_pixels call a run with its own plane sums (the duck's Gouraud frame 14.49 M ->
   // 12.31 M instructions).
   bool write_smooth_block(uint64_t mask, int x, int y) {
-    if (!planes_ready_) {
-      make_color_planes(*part_, colors_, &planes_);
-      planes_ready_ = true;
-    }
+    ready_planes();
     const uint64_t n = uint64_t(bit_count64(mask));
     stats_->pixel_writes += n;
     stats_->shading_calls += n;

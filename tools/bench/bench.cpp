@@ -249,12 +249,13 @@ ml::CompileResult compile_variant(const std::string& variant, const std::string&
     ml::CompileResult failed;
     if (!ml::import_gltf_file(path, &mesh, &warnings, &failed.error)) return failed;
   }
-  if (variant == "plain") mesh.images.clear();
   for (ml::MeshSampler& s : mesh.texture_samplers) {
     if (variant == "nearest") s.filter = ml::TextureFilter::Nearest;
     if (variant == "bilinear") s.filter = ml::TextureFilter::Bilinear;
   }
-  return ml::compile_mesh(mesh);
+  ml::CompileOptions options;
+  if (variant == "plain") options.texture_format = ml::TextureFormatChoice::None;
+  return ml::compile_mesh(mesh, options);
 }
 
 int prepare(const std::string& what, const std::string& out) {
