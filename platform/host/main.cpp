@@ -396,6 +396,9 @@ const char* texel_format_name(uint8_t f) {
 // One line per texture, then the pool sizes (texture/pager.h).
 void print_textures(const ml::Scene& scene) {
   static const char* const kWrap[] = {"repeat", "mirrored", "clamp"};
+  if (scene.texture_count > 0 && scene.texture_texels_count == 0)
+    printf("%s: no texels stored (compiled with --texture-format none): material colours\n",
+           scene.texture_count == 1 ? "texture 0" : ("textures 0.." + std::to_string(scene.texture_count - 1)).c_str());
   for (uint32_t i = 0; i < scene.texture_texels_count; ++i) {
     const ml::TextureTexels& t = scene.texture_texels[i];
     if (t.format == uint8_t(ml::TexelFormat::None)) {

@@ -59,6 +59,10 @@ TEST_F(CliTextures, CompileWithoutTexelsDrawsBaseColours) {
   ASSERT_EQ(textured.exit_code, 0) << textured.describe();
   EXPECT_LT(clitest::read_bytes(path("none.mls")).size(), 2000u);  // the textured blob: 66,680 bytes
   EXPECT_GT(clitest::read_bytes(path("box.mls")).size(), 60000u);
+  // info says why the texture has no line of its own.
+  const RunResult info = run_cli({"info", path("none.mls")});
+  EXPECT_NE(info.out.find("texture 0: no texels stored (compiled with --texture-format none)"), std::string::npos)
+      << info.out;
   for (const char* renderer : {"tiler", "scanline"}) {
     const RunResult plain = run_cli({"render", path("none.mls"), "--renderer", renderer, "--size", "96x72", "-o",
                                      path("plain.png"), "--stats"});

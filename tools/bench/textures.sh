@@ -36,18 +36,21 @@ if [ -f "$duck_dir/duck.dae" ] && [ -f "$duck_dir/duckCM.tga" ] && command -v as
   scenes+=(duck-textured duck-nearest)
 fi
 
-# The core's 16-row bands, rendered a band at a time, textured and untextured alike: with arena to spare
-# the tiler renders several bands at once, a textured frame fewer than the same frame untextured where
-# that keeps its texture residency (docs/displays.md, render bands), and the ratio is the texture work's.
+# The core's 16-row bands. The scanline renderer and the row "tiler, a band at a time" render them a
+# band at a time, textured and untextured alike: with arena to spare the tiler renders several bands
+# at once, a textured frame fewer than the same frame untextured where that keeps its texture
+# residency (docs/displays.md, render bands), and that row's ratio is the texture work's alone. The
+# row "tiler" renders them as bench frame does by default (as many at once as the arena holds), as the
+# frame table measures it.
 bands=16:16
-# instructions SCENE RENDERER [AA] -> instructions of one frame (AA x AA samples a pixel, default 1)
+# instructions SCENE RENDERER [AA [BANDS]] -> instructions of one frame (AA x AA samples a pixel, default 1)
 instructions() {
   valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file="$work/callgrind.textures" \
-    "$bench" frame "$work/$1.mls" "$2" 320x240 "${3:-1}" flat "$bands" 2>&1 >/dev/null | awk '/Collected/ { print $4 }'
+    "$bench" frame "$work/$1.mls" "$2" 320x240 "${3:-1}" flat "${4:-$bands}" 2>&1 >/dev/null | awk '/Collected/ { print $4 }'
 }
-# stat SCENE RENDERER KEY -> a field of the same frame's statistics (run natively)
+# stat SCENE RENDERER KEY [BANDS] -> a field of the same frame's statistics (run natively)
 stat() {
-  "$bench" frame "$work/$1.mls" "$2" 320x240 1 flat "$bands" | grep -o "\b$3=[0-9]*" | cut -d= -f2
+  "$bench" frame "$work/$1.mls" "$2" 320x240 1 flat "${4:-$bands}" | grep -o "\b$3=[0-9]*" | cut -d= -f2
 }
 
 echo "bench: textured frames against the same frames untextured (320x240, 1 sample a pixel, flat)"
@@ -56,11 +59,13 @@ rows=("| scene | renderer | textured | untextured | textured / untextured | text
 for s in "${scenes[@]}"; do
   # every texture's bytes in the pool (each rounded to 4): the pager's desired pool
   total=$("$cli" info "$work/$s.mls" | awk '/^texture pool bytes/ { print $5 }')
-  for r in scanline tiler; do
-    with=$(instructions "$s" "$r")
-    without=$(instructions "${s%%-*}-plain" "$r")
-    read_bytes=$(stat "$s" "$r" texture_bytes_loaded)
-    peak=$(stat "$s" "$r" texture_bytes_peak)
+  for r in scanline "tiler, a band at a time" tiler; do
+    renderer=${r%%,*} frame_bands=$bands
+    [ "$r" = tiler ] && frame_bands=16
+    with=$(instructions "$s" "$renderer" 1 "$frame_bands")
+    without=$(instructions "${s%%-*}-plain" "$renderer" 1 "$frame_bands")
+    read_bytes=$(stat "$s" "$renderer" texture_bytes_loaded "$frame_bands")
+    peak=$(stat "$s" "$renderer" texture_bytes_peak "$frame_bands")
     ratio=$(awk -v a="$with" -v b="$without" 'BEGIN { printf "%.2f", a / b }')
     share=$(awk -v a="$peak" -v b="$total" 'BEGIN { printf "%.2f", a / b }')
     rows+=("| ${s%-textured} | $r | $with | $without | $ratio | $read_bytes | $peak | $share of $total |")
