@@ -59,9 +59,9 @@ rows=("| scene | renderer | textured | untextured | textured / untextured | text
 for s in "${scenes[@]}"; do
   # every texture's bytes in the pool (each rounded to 4): the pager's desired pool
   total=$("$cli" info "$work/$s.mls" | awk '/^texture pool bytes/ { print $5 }')
-  for r in scanline "tiler, a band at a time" tiler; do
-    renderer=${r%%,*} frame_bands=$bands
-    [ "$r" = tiler ] && frame_bands=16
+  # renderer, bench frame's BAND_ROWS, row label
+  for run in "scanline $bands scanline" "tiler $bands tiler, a band at a time" "tiler 16 tiler"; do
+    read -r renderer frame_bands r <<<"$run"
     with=$(instructions "$s" "$renderer" 1 "$frame_bands")
     without=$(instructions "${s%%-*}-plain" "$renderer" 1 "$frame_bands")
     read_bytes=$(stat "$s" "$renderer" texture_bytes_loaded "$frame_bands")
