@@ -23,7 +23,8 @@ size_t render_arena_bytes(const Scene& scene, const Camera& camera, const Render
 // tiler's bands rendered at once, tiler_render_rows_bytes: the most OutputOptions::render_rows allows,
 // an upper bound for a frame whose textures keep it to fewer; the plan of the bands that leaves, its
 // BSP subtrees' screen rectangles and textured triangles' planes, tiler_plan_bytes; for a frame of
-// one band the plan's facing bits alone, which 32-bit boards do not keep: 0 there; and its vertex
+// one band the plan's facing bits and, when the BSP split textured triangles, their planes alone,
+// which 32-bit boards do not keep: 0 there; and its vertex
 // cache, tiler_cache_bytes, 0 on 32-bit boards; the scanline renderer's vertex cache,
 // scanline_spare_bytes, 0 on 32-bit boards). Same image either way.
 size_t render_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);

@@ -452,7 +452,7 @@ TEST(TextureRender, TilerPlanesKeptAcrossBandsGiveTheSameFrame) {
   for (const std::string& path : textest::textured_scenes()) {
     const mlhost::LoadedScene& s = load(path);
     ASSERT_NE(s.scene.info, nullptr) << s.name;
-    uint64_t reused = 0, several_passes = 0;
+    uint64_t reused = 0, several_passes = 0, one_pass_reused = 0;
     for (int frame = 0; frame < 4; ++frame) {
       const double turn = frame % 2 == 0 ? 0.0 : 25.0;
       const ml::Camera cam = frame < 2 ? textest::camera_for(s, 160, 120, turn) : textest::camera_for(s, 24, 18, turn);
@@ -471,6 +471,8 @@ TEST(TextureRender, TilerPlanesKeptAcrossBandsGiveTheSameFrame) {
         if (kept.stats.render_bands > 1) {
           ++several_passes;
           reused += kept.stats.texture_planes_reused;
+        } else {
+          one_pass_reused += kept.stats.texture_planes_reused;  // a split triangle's pieces
         }
         // The spare bytes with a band at a time: every frame in several passes.
         ml::RenderOptions apart = o;
@@ -487,6 +489,10 @@ TEST(TextureRender, TilerPlanesKeptAcrossBandsGiveTheSameFrame) {
     }
     if (path == "builtin:banded") {
       EXPECT_GT(several_passes, 0u) << "the banded scene is no longer rendered in several passes of bands";
+    }
+    // A frame rendered in one pass keeps the planes of the triangles the BSP split (the duck's).
+    if (s.scene.bsp_piece_count > s.scene.triangle_count * 5 / 4) {
+      EXPECT_GT(one_pass_reused, 0u) << path << ": no split triangle's planes kept in one pass";
     }
   }
 }
