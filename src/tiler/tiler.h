@@ -22,9 +22,9 @@ size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderO
 // out once, not once per band; and two bits a triangle: its facing, tested once for all the pieces the
 // BSP split it into; on 32-bit targets a byte a piece alone; a frame of one band keeps the facing bits
 // alone, none on 32-bit targets), and eight bytes a BSP node with several bands: the screen rectangle of
-// its subtree's box, worked out in the first band that tests it, not in every band; with several bands
-// and texels in the scene, 64 textured triangles' texture planes kept from band to band (about 17 KB;
-// none on 32-bit targets).
+// its subtree's box, worked out in the first band that tests it, not in every band; with texels in
+// the scene and several bands, or a BSP that split triangles, 256 textured triangles' texture planes
+// kept for their next piece or band (32 KB; none on 32-bit targets).
 // The tiler uses them when the arena has them free (the pieces' entries first, the rectangles, then the
 // planes when they fit as well); the image is the same either way.
 size_t tiler_plan_bytes(const Scene& scene, int bands);
