@@ -136,8 +136,9 @@ FW_FLAGS  := $(CXXSTD) $(WARN) $(INCLUDES) -O2 -g -fno-exceptions -fno-rtti -fno
 FW_CPU_m3 := -mcpu=cortex-m3 -mthumb
 FW_CPU_m0 := -mcpu=cortex-m0plus -mthumb
 # The Cortex-M0+ image is built without textures (core/build.h ML_TEXTURES): its scenes have none, and
-# texture mapping, sampling and paging would take 17 KB of its 96 KB budget (docs/firmware.md).
-FW_DEFS_m0 := -DML_TEXTURES=0
+# texture mapping, sampling and paging would take 17 KB of its 96 KB budget (docs/firmware.md); and
+# without the vertex cache (view/vertex_cache.h ML_VERTEX_CACHE), which its 16 KB of RAM leave no room for.
+FW_DEFS_m0 := -DML_TEXTURES=0 -DML_VERTEX_CACHE=0
 FW_LD     := -nostartfiles --specs=nano.specs -Wl,--gc-sections -Lplatform/cortex-m/common
 FW_COMMON := platform/cortex-m/common/startup.cpp platform/cortex-m/common/semihost.cpp
 FW_PANELS := platform/panels/panel.cpp platform/panels/panel_sink.cpp

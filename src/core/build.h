@@ -11,6 +11,13 @@
 #endif
 constexpr bool kTextures = ML_TEXTURES != 0;
 
+// ML_VERTEX_CACHE=0 builds the renderers without their vertex cache (view/vertex_cache.h): for a board
+// whose RAM leaves no room for it (the Cortex-M0+ image's 16 KB, docs/firmware.md). The images are the
+// same either way.
+#ifndef ML_VERTEX_CACHE
+#define ML_VERTEX_CACHE 1
+#endif
+
 // A function optimized for size, not speed, on GCC (rare code; the boards' flash is short). Clang, which
 // the fuzz builds use, has no per-function optimize attribute and warns of it: there the build's own level.
 #if defined(__GNUC__) && !defined(__clang__)
@@ -20,13 +27,16 @@ constexpr bool kTextures = ML_TEXTURES != 0;
 #endif
 
 // Inlining decided for 64-bit hosts, where a hot function's call and saved registers show, and left
-// to the compiler (-Os) on the boards, whose flash a second copy would take.
+// to the compiler (-Os) on the boards, whose flash a second copy would take. ML_BOARD_NOINLINE: the
+// compiler's choice on hosts, one copy on the boards (a helper inlined at several call sites).
 #if UINTPTR_MAX > 0xFFFFFFFFu
 #define ML_HOST_INLINE [[gnu::always_inline]]
 #define ML_HOST_NOINLINE [[gnu::noinline]]
+#define ML_BOARD_NOINLINE
 #else
 #define ML_HOST_INLINE
 #define ML_HOST_NOINLINE
+#define ML_BOARD_NOINLINE [[gnu::noinline]]
 #endif
 
 // Before a loop of a few passes written as a loop for the boards' flash: unrolled on 64-bit hosts,

@@ -16,9 +16,9 @@
 
 namespace ml {
 
-// Whether the renderers keep a vertex cache on this target: 64-bit hosts only. On the boards its code
-// would pass the Cortex-M0+ image's flash budget, and they have no RAM to spare for it.
-constexpr bool kVertexCacheBuilt = sizeof(void*) >= 8;
+// Whether the renderers keep a vertex cache in this build (core/build.h ML_VERTEX_CACHE): in the arena
+// they are given beyond the least, when it holds kMinEntries or more.
+constexpr bool kVertexCacheBuilt = ML_VERTEX_CACHE != 0;
 
 class VertexCache {
  public:
@@ -54,12 +54,13 @@ class VertexCache {
   // Entries held (0: no cache).
   uint32_t entries() const { return entries_ ? mask_ + 1 : 0; }
 
-  // The world positions of vertices v[0..2] read with `batch`: vertices_world's.
-  void world(uint32_t batch, const uint32_t v[3], Vec3i out[3]) {
+  // The world positions of vertices v[0..2] read with `batch`: vertices_world's. (Inline on 64-bit
+  // hosts, where the lookups' call would show; one copy on the boards, whose flash it spares.)
+  ML_BOARD_NOINLINE void world(uint32_t batch, const uint32_t v[3], Vec3i out[3]) {
     ML_HOST_UNROLL for (int i = 0; i < 3; ++i) out[i] = lookup(batch, v[i], false).world;
   }
   // Their view_triangle.
-  void view(uint32_t batch, const uint32_t v[3], ViewTriangle* out) {
+  ML_BOARD_NOINLINE void view(uint32_t batch, const uint32_t v[3], ViewTriangle* out) {
     bool unclipped = true;
     ML_HOST_UNROLL for (int i = 0; i < 3; ++i)
       if (!put_view_vertex(lookup(batch, v[i], true).view, i, out)) unclipped = false;
