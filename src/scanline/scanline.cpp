@@ -398,7 +398,7 @@ inline bool holds(const VertexCache* cache) { return kVertexCacheBuilt && cache 
 // batch of boxes with a vertex per corner and face (24 for 12 triangles: office(8)'s, where two look-ups
 // in three miss) loses more to the look-ups than the cache saves.
 inline bool shares_vertices(const Batch& b) { return b.vertex_count <= b.triangle_count; }
-// The cache's entries for the scene: none when no batch shares its vertices (or on the boards).
+// The cache's entries for the scene: none when no batch shares its vertices (or in a build without it).
 uint32_t cache_entries(const Scene& scene) {
   bool any = false;
   for (uint32_t b = 0; b < scene.batch_count && !any; ++b) any = shares_vertices(scene.batches[b]);
@@ -1552,8 +1552,8 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
     st = r.pager.begin(scene, options.texture_source, options.texture_pool_bytes, arena, stats);
     if (!st.ok()) { arena.release_to(start); return too_small(); }
   }
-  // Build ySortList straight into the free part of the arena, then claim exactly what it used. On a
-  // 64-bit host a vertex cache takes the end of the free part (scanline_spare_bytes) and keeps it while
+  // Build ySortList straight into the free part of the arena, then claim exactly what it used. Where
+  // the build has it (core/build.h ML_VERTEX_CACHE) a vertex cache takes the end of the free part (scanline_spare_bytes) and keeps it while
   // the list and then the frame's arrays leave it room: it is dropped, never a failure, once they need
   // its bytes (the same frame, slower).
   arena.allocate(0, 8);

@@ -1200,7 +1200,7 @@ class NodeRects {
   Rect* rects_ = nullptr;
 };
 
-// The vertex cache (view/vertex_cache.h) is a 64-bit host's, like the plan's extras.
+// The vertex cache (view/vertex_cache.h), where the build has it (not the Cortex-M0+ image's).
 constexpr bool kVertexCache = kVertexCacheBuilt;
 
 uint32_t vertex_cache_entries(const Scene& scene) {
