@@ -679,18 +679,21 @@ struct MaskRuns {
   Pixel* place(const SampleRun& run, Pixel** out) const {
     return *out + uint32_t(run.y - y) * stride + uint32_t(run.x - x);
   }
-  // One loop over the set bits (a block's runs are two or three samples long: a loop over runs
-  // around one over their samples costs more than the test of each bit against the last).
+  // A loop over the runs, each a loop over its samples: the runs are short (the textured duck's
+  // blocks: 20,580 samples in 9,169 runs), but the test of each set bit against the last cost more
+  // (the duck's tiler frame 13,577,728 instructions with it, 13,496,427 so).
   template <typename Steps, typename Sample>
   ML_RUN_HELPER void each(const TexturePlanes& p, Steps& steps, Pixel* out, Sample sample) {
     int32_t uv[2];
-    int last = -2;  // the previous sample's bit
-    for (uint64_t m = mask; m != 0; m &= m - 1) {
-      const int at = __builtin_ctzll(m);
-      if (at != last + 1 || (at & 7) == 0) steps.start(p, x + (at & 7), y + (at >> 3));  // a run starts
-      last = at;
-      steps.next(uv);
-      sample(uv, out + uint32_t(at >> 3) * stride + uint32_t(at & 7));
+    for (uint64_t m = mask; m != 0;) {
+      const SampleRun run = take_mask_run(&m, x, y);
+      steps.start(p, run.x, run.y);
+      Pixel* o = place(run, &out);
+      Pixel* const stop = o + run.n;
+      do {
+        steps.next(uv);
+        sample(uv, o);
+      } while (++o != stop);
     }
   }
 };
