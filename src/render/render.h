@@ -24,9 +24,9 @@ size_t render_arena_bytes(const Scene& scene, const Camera& camera, const Render
 // an upper bound for a frame whose textures keep it to fewer; the plan of the bands that leaves, its
 // BSP subtrees' screen rectangles and textured triangles' planes, tiler_plan_bytes; for a frame of
 // one band the plan's facing bits and, when the BSP split textured triangles, their planes alone,
-// which 32-bit boards do not keep: 0 there; and its vertex
-// cache, tiler_cache_bytes; the scanline renderer's vertex cache, scanline_spare_bytes; the caches
-// 0 in a build without them, ML_VERTEX_CACHE=0: the Cortex-M0+ image). Same image either way.
+// which 32-bit boards do not keep: 0 there; and its vertex cache, tiler_cache_bytes; the scanline
+// renderer's vertex cache, scanline_spare_bytes; both caches 0 in a build without them,
+// ML_VERTEX_CACHE=0: the Cortex-M0+ image). Same image either way.
 size_t render_spare_bytes(const Scene& scene, const Camera& camera, const RenderOptions& options);
 
 Status render(const Scene& scene, const Camera& camera, const RenderOptions& options, Arena& arena,

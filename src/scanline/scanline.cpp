@@ -1553,9 +1553,9 @@ Status scanline_render(const Scene& scene, const Camera& camera, const RenderOpt
     if (!st.ok()) { arena.release_to(start); return too_small(); }
   }
   // Build ySortList straight into the free part of the arena, then claim exactly what it used. Where
-  // the build has it (core/build.h ML_VERTEX_CACHE) a vertex cache takes the end of the free part (scanline_spare_bytes) and keeps it while
-  // the list and then the frame's arrays leave it room: it is dropped, never a failure, once they need
-  // its bytes (the same frame, slower).
+  // the build has it (core/build.h ML_VERTEX_CACHE) a vertex cache takes the end of the free part
+  // (scanline_spare_bytes) and keeps it while the list and then the frame's arrays leave it room: it is
+  // dropped, never a failure, once they need its bytes (the same frame, slower).
   arena.allocate(0, 8);
   const size_t free_bytes = arena.size() - arena.used();
   YSortEntry* ys_space = reinterpret_cast<YSortEntry*>(arena.allocate(0, 8));

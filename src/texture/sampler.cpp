@@ -627,39 +627,43 @@ Pixel sample_lut(const TextureTexels& t, const uint8_t* bytes, const Pixel* lut,
   return modulate_texel(fetch(wrap(su >> 16, t.width, t.wrap_s), wrap(sv >> 16, t.height, t.wrap_t)), after);
 }
 
-// The runs: a Runs value whose next(&run) gives each run in turn, false after the last (texture_rows'
-// rows, texture_runs' list, sample_block's mask), place(run, &out) where its colours go, and
-// each(p, steps, out, f) calls f(uv, at) for each sample in turn with its coordinates (steps:
-// ExactSteps or BoxSteps, stepped along each run) and where its colour goes. A list's colours go one
-// after another from out; a mask's to their places in a block of rows `stride` apart.
+// The runs: a Runs value whose next(&run) gives each run in turn, none empty, false after the last
+// (texture_rows' rows, texture_runs' list, sample_block's mask), and place(run, &out) where its
+// colours go: a list's one after another from out, a mask's to their places in a block of rows
+// `stride` apart. each_of_runs calls f(uv, at) for each sample in turn with its coordinates (steps:
+// ExactSteps or BoxSteps, started at each run and stepped along it) and where its colour goes. (A
+// mask's runs are short, the textured duck's blocks 20,580 samples in 9,169 runs, but a loop over the
+// set bits testing each against the last cost more: the duck's tiler frame 13,577,728 instructions
+// with it, 13,486,399 so.)
 template <typename Runs, typename Steps, typename Sample>
 ML_RUN_HELPER void each_of_runs(Runs& runs, const TexturePlanes& p, Steps& steps, Pixel* out, Sample sample) {
   int32_t uv[2];
   for (SampleRun run; runs.next(&run);) {
     steps.start(p, run.x, run.y);
-    for (int32_t i = 0; i < run.n; ++i) steps.next(uv), sample(uv, out++);
+    Pixel* at = runs.place(run, &out);
+    Pixel* const stop = at + run.n;
+    do {
+      steps.next(uv);
+      sample(uv, at);
+    } while (++at != stop);
   }
 }
-// place and each of runs whose colours go one after another from out (RowRuns, ListRuns).
-template <typename Runs>
+// place of runs whose colours go one after another from out (RowRuns, ListRuns).
 struct InOrderRuns {
   Pixel* place(const SampleRun& run, Pixel** out) const { return (*out += run.n) - run.n; }
-  template <typename Steps, typename Sample>
-  ML_RUN_HELPER void each(const TexturePlanes& p, Steps& steps, Pixel* out, Sample sample) {
-    each_of_runs(static_cast<Runs&>(*this), p, steps, out, sample);
-  }
 };
-struct RowRuns : InOrderRuns<RowRuns> {  // rows y .. end - 1 of samples x .. x + n - 1
+struct RowRuns : InOrderRuns {  // rows y .. end - 1 of samples x .. x + n - 1
   int32_t x, y, n, end;
   bool next(SampleRun* run) {
-    if (y == end) return false;
+    if (y == end || n <= 0) return false;  // (no rows of no samples)
     *run = SampleRun{x, y++, n};
     return true;
   }
 };
-struct ListRuns : InOrderRuns<ListRuns> {
+struct ListRuns : InOrderRuns {
   const SampleRun *at, *end;
   bool next(SampleRun* run) {
+    while (at != end && at->n <= 0) ++at;  // (empty runs skipped)
     if (at == end) return false;
     *run = *at++;
     return true;
@@ -678,23 +682,6 @@ struct MaskRuns {
   }
   Pixel* place(const SampleRun& run, Pixel** out) const {
     return *out + uint32_t(run.y - y) * stride + uint32_t(run.x - x);
-  }
-  // A loop over the runs, each a loop over its samples: the runs are short (the textured duck's
-  // blocks: 20,580 samples in 9,169 runs), but the test of each set bit against the last cost more
-  // (the duck's tiler frame 13,577,728 instructions with it, 13,496,427 so).
-  template <typename Steps, typename Sample>
-  ML_RUN_HELPER void each(const TexturePlanes& p, Steps& steps, Pixel* out, Sample sample) {
-    int32_t uv[2];
-    for (uint64_t m = mask; m != 0;) {
-      const SampleRun run = take_mask_run(&m, x, y);
-      steps.start(p, run.x, run.y);
-      Pixel* o = place(run, &out);
-      Pixel* const stop = o + run.n;
-      do {
-        steps.next(uv);
-        sample(uv, o);
-      } while (++o != stop);
-    }
   }
 };
 
@@ -732,7 +719,7 @@ ML_RUN_HELPER void bilinear_runs(TexturePlanes& p, const TextureTexels& t, const
   const bool grey = grey_of(tint) != 0;
   with_steps(p, [&](auto& steps) ML_RUN_LAMBDA {
     const auto each = [&](auto repeats, auto greys) ML_RUN_LAMBDA {
-      runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
+      each_of_runs(runs, p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
         *at = bilinear_tinted<decltype(repeats)::value, decltype(greys)::value>(t, uv[0], uv[1], fetch, tint);
       });
     };
@@ -761,17 +748,17 @@ ML_RUN_HELPER void exact_runs(TexturePlanes& p, const TextureTexels& t, const ui
   with_steps(p, [&](auto& steps) ML_RUN_LAMBDA {
     if (nearest && repeat) {  // wrapping is a mask (wrap_as<Repeat>)
       const int32_t mu = int32_t(t.width) - 1, mv = int32_t(t.height) - 1;
-      runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
+      each_of_runs(runs, p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
         const Pixel texel = fetch((uv[0] >> sb[0]) & mu, (uv[1] >> sb[1]) & mv);
         *at = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
       });
     } else if (nearest) {
-      runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
+      each_of_runs(runs, p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
         const Pixel texel = fetch(wrap(uv[0] >> sb[0], t.width, t.wrap_s), wrap(uv[1] >> sb[1], t.height, t.wrap_t));
         *at = after == 0xFFFFFF ? texel : modulate_texel(texel, after);
       });
     } else {
-      runs.each(p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
+      each_of_runs(runs, p, steps, out, [&](const int32_t* uv, Pixel* at) ML_RUN_LAMBDA {
         *at = lut ? sample_texture(t, bytes, lut, lut_colour, uv, colour, true)
                   : textured_colour(t, bytes, uv, colour, true);
       });

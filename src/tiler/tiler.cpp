@@ -66,7 +66,7 @@ class PlaneCache {
   static constexpr uint32_t kSets = 256;
   // A frame of one band draws a triangle again only when the BSP split it.
   static size_t bytes(const Scene& scene, int bands) {
-    const bool again = bands >= 2 || scene.bsp_piece_count > scene.triangle_count;
+    const bool again = bands >= 2 || scene.bsp_split_count > 0;
     return !kActive || !again || scene.texture_texels_count == 0 ? 0
                                                                 : arena_worst_case(sizeof(Set) * kSets, alignof(Set));
   }

@@ -30,8 +30,8 @@ size_t tiler_arena_bytes(const Scene& scene, const Camera& camera, const RenderO
 size_t tiler_plan_bytes(const Scene& scene, int bands);
 // Arena bytes beyond those with which each vertex is decoded and transformed about once a frame (the
 // vertex cache, view/vertex_cache.h: 40 bytes a vertex up to 1,024; none in a build without it,
-// ML_VERTEX_CACHE=0). Taken,
-// as many as fit, from what the arena has free after the plan; the image is the same either way.
+// ML_VERTEX_CACHE=0). Taken, as many as fit, from what the arena has free after the plan; the image
+// is the same either way.
 size_t tiler_cache_bytes(const Scene& scene);
 // Arena bytes beyond tiler_arena_bytes with which the frame is rendered `render_rows` rows at a time
 // (render_rows_for: whole bands; core/band.h's render bands, on 64-bit hosts, 0 elsewhere): one band

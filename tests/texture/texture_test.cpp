@@ -491,7 +491,7 @@ TEST(TextureRender, TilerPlanesKeptAcrossBandsGiveTheSameFrame) {
       EXPECT_GT(several_passes, 0u) << "the banded scene is no longer rendered in several passes of bands";
     }
     // A frame rendered in one pass keeps the planes of the triangles the BSP split (the duck's).
-    if (s.scene.bsp_piece_count > s.scene.triangle_count * 5 / 4) {
+    if (s.scene.bsp_split_count > s.scene.triangle_count / 4) {
       EXPECT_GT(one_pass_reused, 0u) << path << ": no split triangle's planes kept in one pass";
     }
   }
