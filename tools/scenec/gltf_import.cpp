@@ -67,6 +67,21 @@ void glb_json_chunk(const unsigned char* bytes, size_t size, const unsigned char
   *length = std::min<size_t>(chunk_length, size - 20);
 }
 
+// Whether a GLB's BIN chunk, when it has one, lies inside the file (and inside the length its header
+// states). tinygltf checks the chunk's length without the chunk's own 8-byte header and then copies up
+// to 8 bytes past the end of the buffer it was given (a fuzzer's find): refused before it sees them.
+bool glb_bin_chunk_fits(const unsigned char* bytes, size_t size) {
+  if (size < 20) return true;  // (tinygltf refuses a GLB shorter than its header)
+  uint32_t stated, json_length;
+  std::memcpy(&stated, bytes + 8, 4);
+  std::memcpy(&json_length, bytes + 12, 4);
+  const uint64_t end = std::min<uint64_t>(stated, size), bin = 20 + uint64_t(json_length);
+  if (bin + 8 > end) return true;  // no BIN chunk header: none, or tinygltf refuses the file
+  uint32_t bin_length;
+  std::memcpy(&bin_length, bytes + bin, 4);
+  return bin + 8 + bin_length <= end;
+}
+
 // External files (buffers and images given by path) are read like the input itself: regular files
 // of at most kMaxGltfFileBytes. With external files off (compiling from memory), none is read.
 bool read_external_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
@@ -1117,6 +1132,10 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
       json = bytes;
       json_length = size;
       if (binary) glb_json_chunk(bytes, size, &json, &json_length);
+    }
+    if (binary && !glb_bin_chunk_fits(bytes, size)) {
+      *error = "invalid glTF: the GLB's BIN chunk runs past the end of the file";
+      return false;
     }
     const JsonShape shape = json_shape(json, json_length);
     if (shape.depth > kMaxJsonDepth) {
