@@ -20,10 +20,16 @@ constexpr bool kTextures = ML_TEXTURES != 0;
 
 // A function optimized for size, not speed, on GCC (rare code; the boards' flash is short). Clang, which
 // the fuzz builds use, has no per-function optimize attribute and warns of it: there the build's own level.
+// ML_OPTIMIZE_SIZE_BEGIN ... ML_OPTIMIZE_SIZE_END: the same for every function defined between them (a
+// rare path of several functions, whose callees one attribute would leave out of line at -O2).
 #if defined(__GNUC__) && !defined(__clang__)
 #define ML_OPTIMIZE_SIZE [[gnu::optimize("Os")]]
+#define ML_OPTIMIZE_SIZE_BEGIN _Pragma("GCC push_options") _Pragma("GCC optimize(\"Os\")")
+#define ML_OPTIMIZE_SIZE_END _Pragma("GCC pop_options")
 #else
 #define ML_OPTIMIZE_SIZE
+#define ML_OPTIMIZE_SIZE_BEGIN
+#define ML_OPTIMIZE_SIZE_END
 #endif
 
 // Inlining decided for 64-bit hosts, where a hot function's call and saved registers show, and left
