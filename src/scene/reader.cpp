@@ -28,7 +28,8 @@ struct CrcTable {
 constexpr CrcTable kCrcTable;
 
 // Validation runs once a blob, at load (boot, on a board): optimized for size up to the end of
-// read_scene. The accessors after it are the renderers' hot paths.
+// read_scene, crc32 with it (a frame's CRC on the microbit image, 4 KB, is its only other use on a
+// board). The accessors after it are the renderers' hot paths.
 ML_OPTIMIZE_SIZE_BEGIN
 
 // ---- helpers -------------------------------------------------------------------------------------

@@ -70,11 +70,11 @@ void glb_json_chunk(const unsigned char* bytes, size_t size, const unsigned char
 // Whether a GLB's BIN chunk, when it has one, lies inside the file (and inside the length its header
 // states). tinygltf checks the chunk's length without the chunk's own 8-byte header and then copies up
 // to 8 bytes past the end of the buffer it was given (a fuzzer's find): refused before it sees them.
-bool glb_bin_chunk_fits(const unsigned char* bytes, size_t size) {
+// json_length: glb_json_chunk's (a JSON chunk clamped to the file leaves no room for a BIN chunk).
+bool glb_bin_chunk_fits(const unsigned char* bytes, size_t size, size_t json_length) {
   if (size < 20) return true;  // (tinygltf refuses a GLB shorter than its header)
-  uint32_t stated, json_length;
+  uint32_t stated;
   std::memcpy(&stated, bytes + 8, 4);
-  std::memcpy(&json_length, bytes + 12, 4);
   const uint64_t end = std::min<uint64_t>(stated, size), bin = 20 + uint64_t(json_length);
   if (bin + 8 > end) return true;  // no BIN chunk header: none, or tinygltf refuses the file
   uint32_t bin_length;
@@ -1133,7 +1133,7 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
       json_length = size;
       if (binary) glb_json_chunk(bytes, size, &json, &json_length);
     }
-    if (binary && !glb_bin_chunk_fits(bytes, size)) {
+    if (binary && !glb_bin_chunk_fits(bytes, size, json_length)) {
       *error = "invalid glTF: the GLB's BIN chunk runs past the end of the file";
       return false;
     }
