@@ -397,7 +397,7 @@ const char* texel_format_name(uint8_t f) {
 void print_textures(const ml::Scene& scene) {
   static const char* const kWrap[] = {"repeat", "mirrored", "clamp"};
   if (scene.texture_count > 0 && scene.texture_texels_count == 0)
-    printf("%s: no texels stored (compiled with --texture-format none): material colours\n",
+    printf("%s: no texels stored (images missing or not decodable, or compiled with --texture-format none): material colours\n",
            scene.texture_count == 1 ? "texture 0" : ("textures 0.." + std::to_string(scene.texture_count - 1)).c_str());
   for (uint32_t i = 0; i < scene.texture_texels_count; ++i) {
     const ml::TextureTexels& t = scene.texture_texels[i];

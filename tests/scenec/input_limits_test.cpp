@@ -109,6 +109,22 @@ TEST(ScenecLimits, DeepJsonIsRefusedBeforeParsing) {
   EXPECT_EQ(s.error.find("nested deeper"), std::string::npos) << s.error;
 }
 
+// glTF 1.0 (meshes as an object, binary files of GLB version 1) is refused by name, not as a file
+// with no meshes or a broken chunk; so are Debian's glTF 1.0 test models when installed.
+TEST(ScenecLimits, Gltf1IsRefusedByVersion) {
+  const std::string v1 = "{\"asset\":{\"version\":\"1.0\"},\"meshes\":{\"m\":{\"primitives\":[]}}}";
+  expect_refused(compile_text(v1), "asset version 1.0", "glTF 1.0 is not supported (glTF 2.0 only)");
+  std::vector<uint8_t> glb = make_glb(positions_gltf({0, 0, 0, 1, 0, 0, 0, 1, 0}));
+  ASSERT_TRUE(compile_gltf_memory(glb.data(), glb.size()).ok);
+  glb[4] = 1;  // the header's version
+  expect_refused(compile_gltf_memory(glb.data(), glb.size()), "GLB version 1", "GLB version 1 is not supported");
+  const std::string dir = "/usr/share/assimp/models/glTF/";
+  for (const char* file : {"TwoBoxes/TwoBoxes.gltf", "BoxTextured-glTF-Binary/BoxTextured.glb"}) {
+    if (access((dir + file).c_str(), R_OK) != 0) continue;
+    expect_refused(compile_gltf_file(dir + file), file, "is not supported (glTF 2.0 only)");
+  }
+}
+
 TEST(ScenecLimits, VeryLargeJsonIsRefusedBeforeParsing) {
   // Three bytes per empty material, about 3 KB each once parsed; members of "extras" about 400 bytes.
   std::string materials = "{\"asset\":{\"version\":\"2.0\"},\"materials\":[{}";

@@ -1133,6 +1133,14 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
       json_length = size;
       if (binary) glb_json_chunk(bytes, size, &json, &json_length);
     }
+    if (binary && size >= 8) {  // glTF 1.0's binary files (KHR_binary_glTF) are version 1: another layout
+      uint32_t glb_version;
+      std::memcpy(&glb_version, bytes + 4, 4);
+      if (glb_version != 2) {
+        *error = "GLB version " + std::to_string(glb_version) + " is not supported (glTF 2.0 only)";
+        return false;
+      }
+    }
     if (binary && !glb_bin_chunk_fits(bytes, size, json_length)) {
       *error = "invalid glTF: the GLB's BIN chunk runs past the end of the file";
       return false;
@@ -1186,6 +1194,11 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
       if (std::search(bytes, bytes + size, kDraco, kDraco + sizeof(kDraco) - 1) != bytes + size) {
         *error = std::string(kDraco) + " is not supported (" + (e.empty() ? std::string("invalid glTF") : e) + ")";
       }
+      return false;
+    }
+    // tinygltf reads much of a glTF 1.0 file and finds no meshes in it (they are an object there).
+    if (!model.asset.version.empty() && model.asset.version[0] != '2') {
+      *error = "glTF " + one_line(model.asset.version) + " is not supported (glTF 2.0 only)";
       return false;
     }
     Importer importer(model, mesh, warnings);
