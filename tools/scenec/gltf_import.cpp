@@ -1115,6 +1115,14 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
       return false;
     }
     const bool binary = size >= 4 && std::memcmp(bytes, "glTF", 4) == 0;
+    if (binary && size >= 8) {  // glTF 1.0's binary files (KHR_binary_glTF) are version 1: another layout
+      uint32_t glb_version;
+      std::memcpy(&glb_version, bytes + 4, 4);
+      if (glb_version != 2) {
+        *error = "GLB version " + std::to_string(glb_version) + " is not supported (glTF 2.0 only)";
+        return false;
+      }
+    }
     // The JSON parsers recurse once per nesting level, and the glTF parser turns each small object
     // into a large structure: refuse deep or very large JSON before they see it.
     const unsigned char* json = bytes;
@@ -1132,14 +1140,6 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
       json = bytes;
       json_length = size;
       if (binary) glb_json_chunk(bytes, size, &json, &json_length);
-    }
-    if (binary && size >= 8) {  // glTF 1.0's binary files (KHR_binary_glTF) are version 1: another layout
-      uint32_t glb_version;
-      std::memcpy(&glb_version, bytes + 4, 4);
-      if (glb_version != 2) {
-        *error = "GLB version " + std::to_string(glb_version) + " is not supported (glTF 2.0 only)";
-        return false;
-      }
     }
     if (binary && !glb_bin_chunk_fits(bytes, size, json_length)) {
       *error = "invalid glTF: the GLB's BIN chunk runs past the end of the file";
