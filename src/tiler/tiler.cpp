@@ -624,9 +624,8 @@ class BandWriter : public CoverageWriter {
 // against the neighbour across that edge. For a piece that may be visible, the piece is tiled as
 // its (unclipped) triangle intersected with the piece's inner edges (those not along a triangle
 // edge, shared with its sibling pieces): the outer boundary is then the triangle's exactly
-// (watertight with the neighbour, the same samples the scanline renderer gives the triangle). When
-// the classification is ambiguous (slivers whose vertices are all near one edge) the piece is
-// tiled as it is. The box grows by one pixel for the sliver.
+// (watertight with the neighbour, the same samples the scanline renderer gives the triangle). The
+// box grows by one pixel for the sliver.
 bool is_split_piece(const BspPiece& piece, const Triangle& tri) {
   if (piece.v[0] == tri.v[0] && piece.v[1] == tri.v[1] && piece.v[2] == tri.v[2]) return false;  // most pieces
   ML_HOST_UNROLL for (int i = 0; i < 3; ++i)
@@ -642,6 +641,33 @@ int64_t split_tolerance(const View& view, const ScreenVertex& p, const ScreenVer
   return clamp_to<int64_t>((3 * view.focal_q8 << kViewFractionBits) / z, 2, kSubpixelHalf);
 }
 
+// Pairs piece edges with the triangle edges they run along (far[i][k]: piece edge i's farther end's
+// |E_k|, or -1 beyond the tolerance) when some edge has several partners: each piece edge along one
+// triangle edge at most, each triangle edge taken once, the nearest pair first (distances end / norm
+// compared as end_1 norm_2 < end_2 norm_1; end <= 2^7 norm and norm < 2^24 (view.h): below 2^55). A
+// sliver piece, cut by a plane that runs almost along a triangle edge, has two edges near that edge:
+// the nearer is it, the other is the cut, shared with the piece beside and kept
+// (OracleRenderersAgree.SliverPiecesOfRealModels: a sample on the edge went to neither piece).
+// Returns the triangle edges taken (bit k).
+int pair_nearest_first(const int64_t (&far)[3][3], const int64_t (&norm)[3], int (&along)[3]) {
+  along[0] = along[1] = along[2] = -1;
+  int used = 0;
+  for (int taken = 0; taken < 3; ++taken) {
+    int bi = -1, bk = 0;
+    for (int i = 0; i < 3; ++i) {
+      if (along[i] >= 0) continue;
+      for (int k = 0; k < 3; ++k) {
+        if (far[i][k] < 0 || (used >> k & 1)) continue;
+        if (bi < 0 || far[i][k] * norm[bk] < far[bi][bk] * norm[k]) bi = i, bk = k;
+      }
+    }
+    if (bi < 0) break;
+    along[bi] = bk;
+    used |= 1 << bk;
+  }
+  return used;
+}
+
 // whole: the triangle's polygon and box in samples; grow: samples a pixel; width, height: samples.
 void clip_to_triangle(const View& view, const ScreenTriangle& part, const ConvexPoly& whole, int grow,
                       int width, int height, ConvexPoly* poly) {
@@ -654,21 +680,32 @@ void clip_to_triangle(const View& view, const ScreenTriangle& part, const Convex
     norm[k] = abs64(e.a) + abs64(e.b);
     ML_HOST_UNROLL for (int i = 0; i < 3; ++i) off[k][i] = abs64(e.at(part.v[i].x, part.v[i].y));
   }
-  int along[3];
-  int used = 0;  // bit k: some piece edge runs along triangle edge k
+  int64_t far[3][3];  // piece edge i, triangle edge k: its farther end's |E_k|, or -1 beyond tol
   ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
-    along[i] = -1;
     const int i1 = i == 2 ? 0 : i + 1;
     const int64_t tol = split_tolerance(view, part.v[i], part.v[i1]);
     ML_HOST_UNROLL for (int k = 0; k < 3; ++k) {
-      const int64_t reach = tol * norm[k];
-      if (off[k][i] > reach || off[k][i1] > reach) continue;
-      if (along[i] >= 0 || (used >> k & 1)) return;  // ambiguous: keep the piece as it is
-      along[i] = k;
+      const int64_t end = max_of(off[k][i], off[k][i1]);
+      far[i][k] = end <= tol * norm[k] ? end : -1;
     }
-    if (along[i] >= 0) used |= 1 << along[i];
   }
-  if (used == 0 || used == 7) return;  // nothing on the boundary, or the whole triangle
+  // Usually each piece edge runs along one triangle edge at most, and no two along the same one.
+  int along[3] = {-1, -1, -1};
+  int used = 0;  // bit k: some piece edge runs along triangle edge k
+  bool ambiguous = false;
+  ML_HOST_UNROLL for (int i = 0; i < 3; ++i) {
+    ML_HOST_UNROLL for (int k = 0; k < 3; ++k) {
+      if (far[i][k] < 0) continue;
+      ambiguous |= along[i] >= 0 || (used >> k & 1);
+      along[i] = k;
+      used |= 1 << k;
+    }
+  }
+  if (ambiguous) used = pair_nearest_first(far, norm, along);
+  // Nothing on the boundary: the piece as it is. All three edges: the piece is the whole triangle but
+  // for a sliver beside it, and takes the triangle's edges, so that it meets the neighbours' exactly
+  // (its own, through quantized split points, may leave a sample on the boundary to neither).
+  if (used == 0) return;
   // In place: the piece edges kept move down (to a slot no later than their own), the triangle's follow.
   int n = 0;
   ML_HOST_UNROLL for (int i = 0; i < 3; ++i)

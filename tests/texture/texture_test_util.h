@@ -1,11 +1,8 @@
 // Helpers of the texture tests: loading the textured scenes, a camera for them and one frame into the
 // checking in-memory sink.
 #pragma once
-#include <stdlib.h>
-
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
@@ -14,6 +11,7 @@
 #include "platform/host/image_sink.h"
 #include "platform/host/scene_load.h"
 #include "render/render.h"
+#include "tests/common/assimp_models.h"
 #include "tests/common/gltf_files.h"
 #include "texture/pager.h"
 
@@ -22,31 +20,9 @@ namespace textest {
 inline std::string model(const std::string& rel) { return std::string(testfiles::kAssimpGltf2Models) + "/" + rel; }
 
 // The COLLADA duck of assimp-testmodels (4,212 triangles and one 256x256 texture: a real model of many
-// small textured triangles, the duck of docs/benchmarks.md), converted to glTF 2.0 by assimp-utils'
-// `assimp export` (tools/bootstrap.sh installs both) once per test binary, into a folder of its own
-// with its texture beside it (the glb names ./duckCM.tga); the folder goes when the binary exits. The
-// path whether or not the conversion worked: loading a missing file fails the test that loads it.
-inline std::string duck_model() {
-  struct Folder {
-    std::string dir, glb;
-    Folder() {
-      const std::string from = "/usr/share/assimp/models/Collada";
-      char tmpl[] = "/tmp/maskline-duck-XXXXXX";
-      if (!mkdtemp(tmpl)) return;
-      dir = tmpl;
-      glb = dir + "/duck.glb";
-      const std::string cmd = "cp " + from + "/duckCM.tga " + dir + "/ && assimp export " + from + "/duck.dae " + glb +
-                              " -f glb2 >/dev/null 2>&1";
-      if (std::system(cmd.c_str()) != 0) glb = dir + "/conversion-failed.glb";
-    }
-    ~Folder() {
-      std::error_code ec;
-      if (!dir.empty()) std::filesystem::remove_all(dir, ec);
-    }
-  };
-  static const Folder folder;
-  return folder.glb.empty() ? std::string("/tmp/maskline-duck-not-made/duck.glb") : folder.glb;
-}
+// small textured triangles, the duck of docs/benchmarks.md), its texture beside it (the glb names
+// ./duckCM.tga).
+inline std::string duck_model() { return testfiles::converted_model("Collada/duck.dae", {"duckCM.tga"}); }
 
 // The textured inputs: the banded scene, the assimp models with textures and the duck.
 inline std::vector<std::string> textured_scenes() {
