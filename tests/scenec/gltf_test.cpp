@@ -721,6 +721,31 @@ TEST(SceneGltf, AMissingImageFileIsOneWarningNamingIt) {
   }
 }
 
+// Exporters on Windows separate a relative URI's parts with backslashes (assimp writes ".\t.png"): the
+// file is read from beside the glTF as if they were slashes.
+TEST(SceneGltf, BackslashesInAUriAreReadAsSlashes) {
+  const std::vector<float> position = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  std::vector<uint8_t> bytes(36);
+  std::memcpy(bytes.data(), position.data(), 36);
+  const std::string dir = scenetest::temp_dir();
+  ASSERT_EQ(mkdir((dir + "/maps").c_str(), 0755), 0);
+  ASSERT_EQ(mlhost::write_png_rgb(dir + "/maps/base.png", 2, 2, std::vector<ml::Pixel>(4, 0x336699u)), "");
+  scenetest::write_file(
+      dir + "/m.gltf",
+      "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"data:application/octet-stream;base64," +
+          base64(bytes) + "\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
+          "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"images\":[{\"uri\":\".\\\\maps\\\\base.png\"}],"
+          "\"textures\":[{\"source\":0}],\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
+          "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"material\":0}]}],"
+          "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}");
+  SceneMesh mesh;
+  std::vector<std::string> warnings;
+  std::string error;
+  ASSERT_TRUE(import_gltf_file(dir + "/m.gltf", &mesh, &warnings, &error)) << error;
+  EXPECT_EQ(mesh.texture_images, (std::vector<uint32_t>{0}));
+  EXPECT_EQ(warnings, std::vector<std::string>{});
+}
+
 // Only a drawn primitive's base colour texture is sampled: a normal map and the texture of a material
 // no primitive uses keep their places in the texture table (the indices stay) without texels, with one
 // warning naming them.

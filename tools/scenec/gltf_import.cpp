@@ -15,6 +15,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include <nlohmann/json.hpp>
 #include <stb/stb_image.h>
 #include <tiny_gltf.h>
 
@@ -82,6 +83,21 @@ bool glb_bin_chunk_fits(const unsigned char* bytes, size_t size, size_t json_len
   return bin + 8 + bin_length <= end;
 }
 
+// The version a JSON's "asset" states ("" when none): read when the glTF parser refused the file,
+// which it does for glTF 1.0 files that write the version as a number ("asset object not found").
+// The JSON's depth and size are checked before (json_shape).
+std::string stated_asset_version(const unsigned char* json, size_t length) {
+  const nlohmann::json j = nlohmann::json::parse(json, json + length, nullptr, /*allow_exceptions=*/false);
+  if (!j.is_object()) return "";
+  const auto asset = j.find("asset");
+  if (asset == j.end() || !asset->is_object()) return "";
+  const auto version = asset->find("version");
+  if (version == asset->end()) return "";
+  if (version->is_string()) return version->get<std::string>();
+  if (version->is_number_integer()) return version->dump() + ".0";
+  return version->is_number() ? version->dump() : "";
+}
+
 // External files (buffers and images given by path) are read like the input itself: regular files
 // of at most kMaxGltfFileBytes. With external files off (compiling from memory), none is read.
 bool read_external_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
@@ -97,6 +113,16 @@ bool read_external_file(std::vector<unsigned char>* out, std::string* err, const
 bool file_beside_gltf(const std::string& path, void* beside) {
   const std::string& dir = *static_cast<const std::string*>(beside);
   return path.compare(0, dir.size(), dir) == 0 && tinygltf::FileExists(path, nullptr);
+}
+// A URI is joined to the glTF's directory as it is, but for backslashes in the URI's part, read as
+// slashes: URIs separate with "/", yet exporters on Windows write ".\t.png" (assimp does), which
+// names no file here.
+std::string uri_path_with_slashes(const std::string& path, void* beside) {
+  const std::string& dir = *static_cast<const std::string*>(beside);
+  if (path.compare(0, dir.size(), dir) != 0) return path;
+  std::string out = path;
+  std::replace(out.begin() + std::ptrdiff_t(dir.size()), out.end(), '\\', '/');
+  return out;
 }
 bool no_file_exists(const std::string&, void*) { return false; }
 bool no_file_read(std::vector<unsigned char>*, std::string* err, const std::string& path, void*) {
@@ -1166,7 +1192,7 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
     const std::string dir = without_leading_dot_slash(base_dir);  // (empty stays empty: no file read)
     std::string beside = dir.empty() || dir.back() == '/' ? dir : dir + "/";
     fs.user_data = &beside;
-    fs.ExpandFilePath = &tinygltf::ExpandFilePath;
+    fs.ExpandFilePath = &uri_path_with_slashes;
     fs.WriteWholeFile = &no_file_write;
     if (dir.empty()) {
       fs.FileExists = &no_file_exists;
@@ -1187,6 +1213,11 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
     for (const std::string& w : image_file_warnings(split_lines(warn), model)) {
       if (warnings->size() < 100) warnings->push_back(w);
     }
+    const std::string version = ok ? model.asset.version : stated_asset_version(json, json_length);
+    if (!version.empty() && version[0] != '2') {  // glTF 1.0: meshes are an object, not found as an array
+      *error = "glTF " + one_line(version) + " is not supported (glTF 2.0 only)";
+      return false;
+    }
     if (!ok) {
       const std::string e = one_line(err);
       *error = e.empty() ? std::string("invalid glTF") : "invalid glTF: " + e;
@@ -1194,11 +1225,6 @@ bool import_gltf_memory(const unsigned char* bytes, size_t size, const std::stri
       if (std::search(bytes, bytes + size, kDraco, kDraco + sizeof(kDraco) - 1) != bytes + size) {
         *error = std::string(kDraco) + " is not supported (" + (e.empty() ? std::string("invalid glTF") : e) + ")";
       }
-      return false;
-    }
-    // tinygltf reads much of a glTF 1.0 file and finds no meshes in it (they are an object there).
-    if (!model.asset.version.empty() && model.asset.version[0] != '2') {
-      *error = "glTF " + one_line(model.asset.version) + " is not supported (glTF 2.0 only)";
       return false;
     }
     Importer importer(model, mesh, warnings);
