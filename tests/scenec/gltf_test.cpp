@@ -676,22 +676,30 @@ class InDirectory {
   bool ok_;
 };
 
-}  // namespace
-
-TEST(SceneGltf, AMissingImageFileIsOneWarningNamingIt) {
+// A glTF of one triangle (its positions in a data: URI) drawn with material 0, and the images,
+// textures and materials given (JSON arrays).
+std::string one_textured_triangle(const std::string& images, const std::string& textures, const std::string& materials) {
   const std::vector<float> position = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   std::vector<uint8_t> bytes(36);
   std::memcpy(bytes.data(), position.data(), 36);
-  const auto naming_image = [&](const std::string& uri) {
-    return "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"data:application/octet-stream;base64," +
-           base64(bytes) + "\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
-           "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"images\":[{\"uri\":\"" + uri + "\"}],"
-           "\"textures\":[{\"source\":0}],\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
-           "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"material\":0}]}],"
-           "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}";
-  };
+  return "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"data:application/octet-stream;base64," +
+         base64(bytes) + "\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
+         "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"images\":" + images + ",\"textures\":" + textures +
+         ",\"materials\":" + materials + ",\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"material\":0}]}],"
+         "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}";
+}
+
+// One image, the base colour texture of material 0.
+std::string one_image_at(const std::string& uri) {
+  return one_textured_triangle("[{\"uri\":\"" + uri + "\"}]", "[{\"source\":0}]",
+                               "[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}]");
+}
+
+}  // namespace
+
+TEST(SceneGltf, AMissingImageFileIsOneWarningNamingIt) {
   const std::string dir = scenetest::temp_dir();
-  scenetest::write_file(dir + "/m.gltf", naming_image("missing-texture.png"));
+  scenetest::write_file(dir + "/m.gltf", one_image_at("missing-texture.png"));
   // Files of those names in the current directory are not the models' and are not read (a decodable
   // image there would give the model a texture): "missing-texture.png" for a glTF elsewhere, and for
   // a glTF named "./sub/m.gltf" whose image is "sub/t.png" (beside it: "./sub/sub/t.png", missing),
@@ -701,7 +709,7 @@ TEST(SceneGltf, AMissingImageFileIsOneWarningNamingIt) {
   ASSERT_EQ(mlhost::write_png_rgb(current + "/missing-texture.png", 2, 2, blue), "");
   ASSERT_EQ(mkdir((current + "/sub").c_str(), 0755), 0);
   ASSERT_EQ(mlhost::write_png_rgb(current + "/sub/t.png", 2, 2, blue), "");
-  scenetest::write_file(current + "/sub/m.gltf", naming_image("sub/t.png"));
+  scenetest::write_file(current + "/sub/m.gltf", one_image_at("sub/t.png"));
   CompileResult r, dotted;
   {
     const InDirectory in(current);
@@ -724,20 +732,10 @@ TEST(SceneGltf, AMissingImageFileIsOneWarningNamingIt) {
 // Exporters on Windows separate a relative URI's parts with backslashes (assimp writes ".\t.png"): the
 // file is read from beside the glTF as if they were slashes.
 TEST(SceneGltf, BackslashesInAUriAreReadAsSlashes) {
-  const std::vector<float> position = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-  std::vector<uint8_t> bytes(36);
-  std::memcpy(bytes.data(), position.data(), 36);
   const std::string dir = scenetest::temp_dir();
   ASSERT_EQ(mkdir((dir + "/maps").c_str(), 0755), 0);
   ASSERT_EQ(mlhost::write_png_rgb(dir + "/maps/base.png", 2, 2, std::vector<ml::Pixel>(4, 0x336699u)), "");
-  scenetest::write_file(
-      dir + "/m.gltf",
-      "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"data:application/octet-stream;base64," +
-          base64(bytes) + "\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
-          "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"images\":[{\"uri\":\".\\\\maps\\\\base.png\"}],"
-          "\"textures\":[{\"source\":0}],\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}}}],"
-          "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"material\":0}]}],"
-          "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}");
+  scenetest::write_file(dir + "/m.gltf", one_image_at(".\\\\maps\\\\base.png"));
   SceneMesh mesh;
   std::vector<std::string> warnings;
   std::string error;
@@ -750,22 +748,15 @@ TEST(SceneGltf, BackslashesInAUriAreReadAsSlashes) {
 // no primitive uses keep their places in the texture table (the indices stay) without texels, with one
 // warning naming them.
 TEST(SceneGltf, TexturesNotSampledAreLeftOutWithOneWarning) {
-  const std::vector<float> position = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-  std::vector<uint8_t> bytes(36);
-  std::memcpy(bytes.data(), position.data(), 36);
   const std::string dir = scenetest::temp_dir();
   ASSERT_EQ(mlhost::write_png_rgb(dir + "/base.png", 2, 2, std::vector<ml::Pixel>(4, 0x336699u)), "");
   ASSERT_EQ(mlhost::write_png_rgb(dir + "/normal.png", 2, 2, std::vector<ml::Pixel>(4, 0x8080FFu)), "");
   scenetest::write_file(
       dir + "/m.gltf",
-      "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":36,\"uri\":\"data:application/octet-stream;base64," +
-          base64(bytes) + "\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":36}],\"accessors\":[{\"bufferView\":0,"
-          "\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],\"images\":[{\"uri\":\"base.png\"},{\"uri\":\"normal.png\"}],"
-          "\"textures\":[{\"source\":0},{\"source\":1},{\"source\":0}],"
-          "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}},\"normalTexture\":{\"index\":1}},"
-          "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":2}}}],"
-          "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"material\":0}]}],"
-          "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}");
+      one_textured_triangle("[{\"uri\":\"base.png\"},{\"uri\":\"normal.png\"}]",
+                            "[{\"source\":0},{\"source\":1},{\"source\":0}]",
+                            "[{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":0}},\"normalTexture\":{\"index\":1}},"
+                            "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":2}}}]"));
   SceneMesh mesh;
   std::vector<std::string> warnings;
   std::string error;
