@@ -641,15 +641,22 @@ int64_t split_tolerance(const View& view, const ScreenVertex& p, const ScreenVer
   return clamp_to<int64_t>((3 * view.focal_q8 << kViewFractionBits) / z, 2, kSubpixelHalf);
 }
 
+// Whether two edges have their insides on the same side: the angle between their normals (a, b) is
+// below 90 degrees. |a|, |b| < 2^23 (view.h): the sum is below 2^47.
+bool faces_alike(const EdgeFunction& p, const EdgeFunction& q) { return p.a * q.a + p.b * q.b > 0; }
+
 // Pairs piece edges with the triangle edges they run along (far[i][k]: piece edge i's farther end's
 // |E_k|, or -1 beyond the tolerance) when some edge has several partners: each piece edge along one
 // triangle edge at most, each triangle edge taken once, the nearest pair first (distances end / norm
 // compared as end_1 norm_2 < end_2 norm_1; end <= 2^7 norm and norm < 2^24 (view.h): below 2^55). A
 // sliver piece, cut by a plane that runs almost along a triangle edge, has two edges near that edge:
 // the nearer is it, the other is the cut, shared with the piece beside and kept
-// (OracleRenderersAgree.SliverPiecesOfRealModels: a sample on the edge went to neither piece).
-// Returns the triangle edges taken (bit k).
-int pair_nearest_first(const int64_t (&far)[3][3], const int64_t (&norm)[3], int (&along)[3]) {
+// (OracleRenderersAgree.SliverPiecesOfRealModels: a sample on the edge went to neither piece). A piece
+// edge facing away from a triangle edge (its inside on the other side: a sliver's cut) is never that
+// edge, however near: taken for it, the piece would grow over the far side of the cut
+// (OracleRenderersAgree.CrossingTriangles). Returns the triangle edges taken (bit k).
+int pair_nearest_first(const int64_t (&far)[3][3], const int64_t (&norm)[3], const ConvexPoly& piece,
+                       const ConvexPoly& whole, int (&along)[3]) {
   along[0] = along[1] = along[2] = -1;
   int used = 0;
   for (int taken = 0; taken < 3; ++taken) {
@@ -657,8 +664,11 @@ int pair_nearest_first(const int64_t (&far)[3][3], const int64_t (&norm)[3], int
     for (int i = 0; i < 3; ++i) {
       if (along[i] >= 0) continue;
       for (int k = 0; k < 3; ++k) {
-        if (far[i][k] < 0 || (used >> k & 1)) continue;
-        if (bi < 0 || far[i][k] * norm[bk] < far[bi][bk] * norm[k]) bi = i, bk = k;
+        if (far[i][k] < 0 || (used >> k & 1) || !faces_alike(piece.edge[i], whole.edge[k])) continue;
+        if (bi < 0 || far[i][k] * norm[bk] < far[bi][bk] * norm[k]) {
+          bi = i;
+          bk = k;
+        }
       }
     }
     if (bi < 0) break;
@@ -671,9 +681,9 @@ int pair_nearest_first(const int64_t (&far)[3][3], const int64_t (&norm)[3], int
 // whole: the triangle's polygon and box in samples; grow: samples a pixel; width, height: samples.
 void clip_to_triangle(const View& view, const ScreenTriangle& part, const ConvexPoly& whole, int grow,
                       int width, int height, ConvexPoly* poly) {
-  // A piece edge runs along triangle edge k when both its ends lie within `tol` subpixels of the
-  // edge's line: |E_k| <= tol (|a| + |b|) bounds the distance by tol. Each |E_k| at each corner of the
-  // part, and each |a| + |b|, once.
+  // A piece edge runs along triangle edge k when both its ends lie near the edge's line:
+  // |E_k| <= tol (|a| + |b|), a distance of at most tol sqrt(2) subpixels (|a| + |b| is at most
+  // sqrt(2) times the normal's length). Each |E_k| at each corner of the part, and each |a| + |b|, once.
   int64_t off[3][3], norm[3];
   ML_HOST_UNROLL for (int k = 0; k < 3; ++k) {
     const EdgeFunction& e = whole.edge[k];
@@ -701,7 +711,7 @@ void clip_to_triangle(const View& view, const ScreenTriangle& part, const Convex
       used |= 1 << k;
     }
   }
-  if (ambiguous) used = pair_nearest_first(far, norm, along);
+  if (ambiguous) used = pair_nearest_first(far, norm, *poly, whole, along);
   // Nothing on the boundary: the piece as it is. All three edges: the piece is the whole triangle but
   // for a sliver beside it, and takes the triangle's edges, so that it meets the neighbours' exactly
   // (its own, through quantized split points, may leave a sample on the boundary to neither).

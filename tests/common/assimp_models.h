@@ -14,10 +14,10 @@ namespace testfiles {
 
 constexpr const char* kAssimpModels = "/usr/share/assimp/models";
 
-// `source` (relative to kAssimpModels) converted once per test binary, into a folder of its own with
-// the files `beside` copied next to it (textures the model names by relative URI); the folders go
-// when the binary exits. The path whether or not the conversion worked: loading a missing file fails
-// the test that loads it.
+// `source` (relative to kAssimpModels) converted once per test binary and list `beside`, into a
+// folder of its own with the files `beside` copied next to it (textures the model names by relative
+// URI); the folders go when the binary exits. The path whether or not the conversion worked: loading
+// a missing file fails the test that loads it.
 inline std::string converted_model(const std::string& source, const std::vector<std::string>& beside = {}) {
   struct Folder {
     std::string dir, glb;
@@ -38,8 +38,10 @@ inline std::string converted_model(const std::string& source, const std::vector<
       if (!dir.empty()) std::filesystem::remove_all(dir, ec);
     }
   };
+  std::string key = source;  // the same source with other files beside is another folder
+  for (const std::string& file : beside) key += '\n' + file;
   static std::map<std::string, Folder> folders;  // nodes never move
-  const auto it = folders.try_emplace(source, source, beside).first;
+  const auto it = folders.try_emplace(key, source, beside).first;
   return it->second.glb.empty() ? "/tmp/maskline-model-not-made/" + source : it->second.glb;
 }
 
