@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "core/build.h"
+#include "core/crc32.h"
 #include "core/fixed.h"
 #include "core/status.h"
 #include "scene/blob_format.h"
@@ -64,9 +65,6 @@ struct Scene {
   const TextureTexels* texture_texels = nullptr;  uint32_t texture_texels_count = 0;  // == texture_count
   const uint8_t* texels = nullptr;           uint32_t texel_bytes = 0;
 };
-
-// CRC-32 (IEEE 802.3, reflected, as zlib's crc32). Pass the previous value to continue a running CRC.
-uint32_t crc32(const void* data, size_t size, uint32_t previous = 0);
 
 enum class CrcCheck { Skip, Check };
 

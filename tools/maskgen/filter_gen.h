@@ -30,6 +30,8 @@
 #include <cmath>
 #include <vector>
 
+#include "core/crc32.h"
+
 namespace filtergen {
 
 constexpr int kNeighbours = 9;
@@ -119,14 +121,15 @@ inline std::vector<uint32_t> neighbour_totals(const std::vector<uint32_t>& weigh
   return t;
 }
 
+// CRC-32/IEEE of the entries as little-endian 64-bit values, as the header states.
 inline uint32_t table_crc(const std::vector<uint64_t>& t) {
-  uint32_t crc = 0xFFFFFFFFu;
-  for (uint64_t v : t)
-    for (int k = 0; k < 8; ++k) {
-      crc ^= uint8_t(v >> (8 * k));
-      for (int i = 0; i < 8; ++i) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
-    }
-  return crc ^ 0xFFFFFFFFu;
+  uint32_t crc = 0;
+  for (uint64_t v : t) {
+    uint8_t bytes[8];
+    for (int k = 0; k < 8; ++k) bytes[k] = uint8_t(v >> (8 * k));
+    crc = ml::crc32(bytes, sizeof bytes, crc);
+  }
+  return crc;
 }
 
 }  // namespace filtergen

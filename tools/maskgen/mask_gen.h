@@ -19,6 +19,8 @@
 
 #include <vector>
 
+#include "core/crc32.h"
+
 namespace maskgen {
 
 struct Entry {
@@ -119,16 +121,16 @@ inline std::vector<Entry> make_table(int k) {
 
 // CRC-32/IEEE over the entries as little-endian bytes (c then v), as the header states.
 inline uint32_t table_crc(const std::vector<Entry>& t) {
-  uint32_t crc = 0xFFFFFFFFu;
-  auto byte = [&crc](uint8_t b) {
-    crc ^= b;
-    for (int i = 0; i < 8; ++i) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
-  };
+  uint32_t crc = 0;
   for (const Entry& e : t) {
-    for (int i = 0; i < 8; ++i) byte(uint8_t(e.c >> (8 * i)));
-    for (int i = 0; i < 8; ++i) byte(uint8_t(e.v >> (8 * i)));
+    uint8_t bytes[16];
+    for (int i = 0; i < 8; ++i) {
+      bytes[i] = uint8_t(e.c >> (8 * i));
+      bytes[8 + i] = uint8_t(e.v >> (8 * i));
+    }
+    crc = ml::crc32(bytes, sizeof bytes, crc);
   }
-  return crc ^ 0xFFFFFFFFu;
+  return crc;
 }
 
 inline bool valid_k(int k) { return k >= 2 && k <= 256 && (k & (k - 1)) == 0; }
