@@ -711,6 +711,8 @@ void clip_to_triangle(const View& view, const ScreenTriangle& part, const Convex
       used |= 1 << k;
     }
   }
+  // (A piece edge facing away from the one triangle edge it runs along puts the piece's inside beyond
+  // that edge: the piece's other edges run along it too, and the pairing below sorts them out.)
   if (ambiguous) used = pair_nearest_first(far, norm, *poly, whole, along);
   // Nothing on the boundary: the piece as it is. All three edges: the piece is the whole triangle but
   // for a sliver beside it, and takes the triangle's edges, so that it meets the neighbours' exactly

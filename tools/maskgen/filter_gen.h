@@ -30,7 +30,7 @@
 #include <cmath>
 #include <vector>
 
-#include "core/crc32.h"
+#include "tools/maskgen/table_crc.h"
 
 namespace filtergen {
 
@@ -124,11 +124,7 @@ inline std::vector<uint32_t> neighbour_totals(const std::vector<uint32_t>& weigh
 // CRC-32/IEEE of the entries as little-endian 64-bit values, as the header states.
 inline uint32_t table_crc(const std::vector<uint64_t>& t) {
   uint32_t crc = 0;
-  for (uint64_t v : t) {
-    uint8_t bytes[8];
-    for (int k = 0; k < 8; ++k) bytes[k] = uint8_t(v >> (8 * k));
-    crc = ml::crc32(bytes, sizeof bytes, crc);
-  }
+  for (uint64_t v : t) crc = maskgen::crc32_le64(v, crc);
   return crc;
 }
 

@@ -19,7 +19,7 @@
 
 #include <vector>
 
-#include "core/crc32.h"
+#include "tools/maskgen/table_crc.h"
 
 namespace maskgen {
 
@@ -122,14 +122,7 @@ inline std::vector<Entry> make_table(int k) {
 // CRC-32/IEEE over the entries as little-endian bytes (c then v), as the header states.
 inline uint32_t table_crc(const std::vector<Entry>& t) {
   uint32_t crc = 0;
-  for (const Entry& e : t) {
-    uint8_t bytes[16];
-    for (int i = 0; i < 8; ++i) {
-      bytes[i] = uint8_t(e.c >> (8 * i));
-      bytes[8 + i] = uint8_t(e.v >> (8 * i));
-    }
-    crc = ml::crc32(bytes, sizeof bytes, crc);
-  }
+  for (const Entry& e : t) crc = crc32_le64(e.v, crc32_le64(e.c, crc));
   return crc;
 }
 
