@@ -14,7 +14,7 @@ namespace testfiles {
 
 constexpr const char* kAssimpModels = "/usr/share/assimp/models";
 
-// `source` (relative to kAssimpModels) converted once per test binary and list `beside`, into a
+// `source` (relative to kAssimpModels) converted once per test binary for each list `beside`, into a
 // folder of its own with the files `beside` copied next to it (textures the model names by relative
 // URI); the folders go when the binary exits. The path whether or not the conversion worked: loading
 // a missing file fails the test that loads it.

@@ -340,7 +340,9 @@ size_t sum_over_crossing_scenes(Check check) {
   for (uint32_t seed = 1; seed <= 6; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     mlhost::LoadedScene s;
-    if (load_crossing_scene(seed, 24, &s)) sum += check(s.scene, seed);
+    const bool loaded = load_crossing_scene(seed, 24, &s);
+    EXPECT_TRUE(loaded);
+    if (loaded) sum += check(s.scene, seed);
   }
   return sum;
 }
