@@ -225,16 +225,13 @@ class BandWriter : public CoverageWriter {
     // (2CylinderEngine at 1024x768: 12,167 of 18,608 blocks a frame). A small textured piece's blocks
     // after its first are the textured frames' common block: write_lean_textured.
     if (kLeanBlocks && factor_ == 1 && shaded_) {
-      if (!textured()) {
-        if (!colors_.smooth && !cosine_ && out_.mask_value_ready(colors_.flat) && fill_flat(mask, x, band_y)) {
-          wrote_piece_ = true;
-          return true;
-        }
+      if (!textured() && !colors_.smooth && !cosine_ && out_.mask_value_ready(colors_.flat) &&
+          fill_flat(mask, x, band_y)) {
+        wrote_piece_ = true;
+        return true;
       }
 #if UINTPTR_MAX > 0xFFFFFFFFu
-      else if (texture_ready_ && lean_sampling_) {
-        return write_lean_textured(mask, x, band_y + top_);
-      }
+      if (textured() && texture_ready_ && lean_sampling_) return write_lean_textured(mask, x, band_y + top_);
 #endif
     }
     return write_any_block(mask, x, band_y);
@@ -512,8 +509,9 @@ class BandWriter : public CoverageWriter {
   // sampling in lean_sampling_: straight from write_block, without the checks and look-ups that gave
   // the same answers for the first block (the duck's tiler frame: 1,717 of its 3,854 textured blocks,
   // 13,575,634 -> 13,439,728 instructions; untextured frames as before). The sampling is the piece's
-  // while its planes are ready (texture_ready_): make_texture_planes forgets an earlier piece's, and
-  // only the piece's first block sets it. The texture is not asked of the pager again: the first block
+  // while it is textured and its planes are ready (texture_ready_, which the background that follows
+  // the last piece leaves as it was): make_texture_planes forgets an earlier piece's, and only the
+  // piece's first block sets it. The texture is not asked of the pager again: the first block
   // did, and no other texture is used until the piece ends, so the order of the textures' last uses,
   // which the pager's evictions go by, stays the same.
   [[gnu::noinline]] bool write_lean_textured(uint64_t mask, int x, int y) {
