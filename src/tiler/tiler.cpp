@@ -276,6 +276,13 @@ class BandWriter : public CoverageWriter {
     stats_->pixel_writes += uint64_t(stored);
     return true;
   }
+  // A block's samples each written and shaded on their own (textured, Gouraud): counted; their number.
+  uint64_t count_shaded(uint64_t mask) {
+    const uint64_t n = uint64_t(bit_count64(mask));
+    stats_->pixel_writes += n;
+    stats_->shading_calls += n;
+    return n;
+  }
   // Every write of a piece: it counts as drawn, and it is shaded once, on the first.
   void first_write() {
     wrote_piece_ = true;
@@ -419,13 +426,11 @@ class BandWriter : public CoverageWriter {
     if (!planes.exact) return false;  // larger pieces: rectangles of rows (write_textured)
     const uint8_t* bytes = pager_->get(texture_);
     if (!bytes) return false;
-    const uint64_t n = uint64_t(bit_count64(mask));
-    stats_->pixel_writes += n;
-    stats_->shading_calls += n;
 #if UINTPTR_MAX > 0xFFFFFFFFu
+    count_shaded(mask);
     return write_textured_mask(planes, bytes, mask, x, y);
 #else
-    lookup_lut(bytes, uint32_t(n), true);
+    lookup_lut(bytes, uint32_t(count_shaded(mask)), true);
     static_assert(kRowPixels >= 64, "a block's colours fit the row buffer");
     SampleRun runs[32];  // at most 4 runs a row of 8
     int32_t count = 0;
@@ -451,9 +456,7 @@ class BandWriter : public CoverageWriter {
   // 12.31 M instructions).
   bool write_smooth_block(uint64_t mask, int x, int y) {
     ready_planes();
-    const uint64_t n = uint64_t(bit_count64(mask));
-    stats_->pixel_writes += n;
-    stats_->shading_calls += n;
+    count_shaded(mask);
     uint32_t stride;
     Pixel* const to = block_colours_at(x, y, &stride);
     for (uint64_t m = mask; m != 0;) {
@@ -515,9 +518,7 @@ class BandWriter : public CoverageWriter {
   // did, and no other texture is used until the piece ends, so the order of the textures' last uses,
   // which the pager's evictions go by, stays the same.
   [[gnu::noinline]] bool write_lean_textured(uint64_t mask, int x, int y) {
-    const uint64_t n = uint64_t(bit_count64(mask));
-    stats_->pixel_writes += n;
-    stats_->shading_calls += n;
+    count_shaded(mask);
     return sample_lean_block(mask, x, y);
   }
 #endif
