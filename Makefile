@@ -234,9 +234,9 @@ $(FW)/custom/%/mps2-an385.elf: $(FW)/custom/%/config.h $(FW)/custom/%/scene.mls 
 firmware: bootstrap
 	@$(MAKE) --no-print-directory $(FW_ELFS) $(BUILD)/maskline
 
-# ---- fuzzing: clang libFuzzer over the blob reader ----
+# ---- fuzzing: clang libFuzzer over the blob reader and, on what it accepts, both renderers ----
 FUZZ_SRC := tests/fuzz/fuzz_blob_reader.cpp $(CORE_SRC)
-$(BUILD)/fuzz_blob_reader: $(FUZZ_SRC) $(shell find src tables -name '*.h')
+$(BUILD)/fuzz_blob_reader: $(FUZZ_SRC) $(shell find src tables -name '*.h') tests/fuzz/checking_sink.h
 	@mkdir -p $(BUILD)
 	$(CLANGXX) $(CXXSTD) $(INCLUDES) -O1 -g -fno-exceptions -fsanitize=fuzzer,address,undefined -o $@ $(FUZZ_SRC)
 

@@ -2,13 +2,18 @@
 // Each input is read twice: as given with the CRC checked (almost always stopped by it), and without
 // the CRC check so the structural checks behind it get fuzzed too. Whatever read_scene accepts is then
 // walked completely through the accessors: every triangle's and every BSP piece's vertices, normals
-// and UVs, every node — ASan and UBSan watch.
+// and UVs, every node; what is accepted without the CRC check is then rendered small by both
+// renderers (render_small) — ASan and UBSan watch.
 #include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include <vector>
+
+#include "render/render.h"
 #include "scene/scene.h"
+#include "tests/fuzz/checking_sink.h"
 
 namespace {
 
@@ -54,6 +59,28 @@ void walk(const ml::Scene& s) {
   g_sink = sum;
 }
 
+// What read_scene accepts is rendered, both renderers small with the default framing (their spare
+// bytes too: the tiler's band plan and vertex cache, the scanline renderer's vertex cache). A render
+// may refuse the scene with a status; one that succeeds must keep the band contract and write every
+// pixel (CheckingSink), and none may read or write out of bounds.
+void render_small(const ml::Scene& s) {
+  const ml::SceneInfo& info = *s.info;
+  const ml::Vec3i centre{info.sphere_center[0], info.sphere_center[1], info.sphere_center[2]};
+  const ml::Camera camera = ml::frame_sphere(centre, info.sphere_radius, 24, 16, 45 << 16);
+  ml::RenderOptions options[2];
+  options[0].renderer = ml::RendererKind::Tiler;
+  options[1].renderer = ml::RendererKind::Scanline;
+  for (const ml::RenderOptions& o : options) {
+    const size_t bytes = ml::render_arena_bytes(s, camera, o) + ml::render_spare_bytes(s, camera, o);
+    if (bytes > (size_t(64) << 20)) continue;  // (within -rss_limit_mb)
+    std::vector<uint8_t> storage(bytes, fuzz::kPoison);
+    ml::Arena arena(storage.data(), bytes);
+    fuzz::CheckingSink sink;
+    ml::Stats stats;
+    (void)ml::render(s, camera, o, arena, sink, &stats);
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -64,7 +91,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size) memcpy(buffer, data, size);
   ml::Scene scene;
   if (ml::read_scene(buffer, size, &scene, ml::CrcCheck::Check).ok()) walk(scene);
-  if (ml::read_scene(buffer, size, &scene, ml::CrcCheck::Skip).ok()) walk(scene);
+  if (ml::read_scene(buffer, size, &scene, ml::CrcCheck::Skip).ok()) {
+    walk(scene);
+    render_small(scene);
+  }
   free(buffer);
   return 0;
 }

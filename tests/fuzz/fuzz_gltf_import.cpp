@@ -16,44 +16,14 @@
 
 #include "render/render.h"
 #include "scene/scene.h"
+#include "tests/fuzz/checking_sink.h"
 #include "tools/scenec/scenec.h"
 #include "view/view.h"
 
 namespace {
 
-// Checks the band contract (core/sink.h) on XRGB8888 frames: bands top to bottom, full width, each
-// once, and no pixel left unwritten. Unwritten pixels show as poison: the arena starts filled with
-// kPoison and every band is poisoned again after it is read, and a written pixel's top byte is 0.
-constexpr uint8_t kPoison = 0xA5;
-
-class CheckingSink : public ml::Sink {
- public:
-  bool begin_frame(const ml::FrameInfo& frame) override {
-    if (frame.format != ml::PixelFormat::Xrgb8888 || frame.band_rows < 1) abort();
-    frame_ = frame;
-    next_row_ = 0;
-    return true;
-  }
-  bool flush(const ml::Flush& band) override {
-    const int rows = std::min(frame_.band_rows, frame_.height - next_row_);
-    if (band.x != 0 || band.y != next_row_ || band.width != frame_.width || band.height != rows) abort();
-    for (int r = 0; r < band.height; ++r)
-      for (int x = 0; x < band.width; ++x)
-        if (band.bytes[size_t(r) * band.stride + size_t(x) * 4 + 3] != 0) abort();  // never written
-    memset(const_cast<uint8_t*>(band.bytes), kPoison, size_t(band.stride) * size_t(band.height));
-    next_row_ += rows;
-    flush_ready(band.buffer);
-    return true;
-  }
-  bool end_frame() override {
-    if (next_row_ != frame_.height) abort();
-    return true;
-  }
-
- private:
-  ml::FrameInfo frame_;
-  int next_row_ = 0;
-};
+using fuzz::CheckingSink;
+using fuzz::kPoison;
 
 // The render step, in one place (the render and sink API are the part most likely to change): both
 // renderers at a small size with the default framing; scanline also with 2x2 samples and Gouraud; the
