@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Fuzzes the scene-blob reader: tests/fuzz/run.sh BUILD SECONDS
-# Seeds: the committed blobs in tests/fuzz/corpus/ plus, when BUILD/maskline exists, a few small
-# assimp glTF models compiled with it. Exits non-zero when the fuzzer finds a crash (or cannot run).
+# Fuzzes the scene-blob reader and, on what it accepts, both renderers: tests/fuzz/run.sh BUILD SECONDS
+# Seeds: the committed blobs in tests/fuzz/corpus/ plus, when BUILD/maskline (or make test's
+# BUILD/san/maskline) exists, a few small assimp glTF models compiled with it, textured ones among
+# them. Exits non-zero when the fuzzer finds a crash (or cannot run).
 set -u
 build=${1:-build}
 seconds=${2:-60}
@@ -18,12 +19,14 @@ mkdir -p "$corpus" "$work/artifacts"
 cp "$here"/corpus/*.mls "$corpus"/ 2>/dev/null || true
 
 models=/usr/share/assimp/models/glTF2
-if [ -x "$build/maskline" ] && [ -d "$models" ]; then
+compiler="$build/maskline"
+[ -x "$compiler" ] || compiler="$build/san/maskline"
+if [ -x "$compiler" ] && [ -d "$models" ]; then
   for m in BoxTextured-glTF-Binary/BoxTextured.glb glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_13.gltf \
            simple_skin/simple_skin.gltf textureTransform/TextureTransformTest.gltf; do
     [ -f "$models/$m" ] || continue
     out="$corpus/$(basename "${m%.*}").mls"
-    [ -f "$out" ] || "$build/maskline" compile "$models/$m" -o "$out" >/dev/null 2>&1 || rm -f "$out"
+    [ -f "$out" ] || "$compiler" compile "$models/$m" -o "$out" >/dev/null 2>&1 || rm -f "$out"
   done
 fi
 
