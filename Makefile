@@ -236,7 +236,7 @@ firmware: bootstrap
 
 # ---- fuzzing: clang libFuzzer over the blob reader and, on what it accepts, both renderers ----
 FUZZ_SRC := tests/fuzz/fuzz_blob_reader.cpp $(CORE_SRC)
-$(BUILD)/fuzz_blob_reader: $(FUZZ_SRC) $(shell find src tables -name '*.h') tests/fuzz/checking_sink.h
+$(BUILD)/fuzz_blob_reader: $(FUZZ_SRC) $(shell find src tables -name '*.h') tests/fuzz/checked_render.h
 	@mkdir -p $(BUILD)
 	$(CLANGXX) $(CXXSTD) $(INCLUDES) -O1 -g -fno-exceptions -fsanitize=fuzzer,address,undefined -o $@ $(FUZZ_SRC)
 

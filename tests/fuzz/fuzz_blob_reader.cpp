@@ -9,11 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <vector>
-
 #include "render/render.h"
 #include "scene/scene.h"
-#include "tests/fuzz/checking_sink.h"
+#include "tests/fuzz/checked_render.h"
 
 namespace {
 
@@ -64,21 +62,12 @@ void walk(const ml::Scene& s) {
 // may refuse the scene with a status; one that succeeds must keep the band contract and write every
 // pixel (CheckingSink), and none may read or write out of bounds.
 void render_small(const ml::Scene& s) {
-  const ml::SceneInfo& info = *s.info;
-  const ml::Vec3i centre{info.sphere_center[0], info.sphere_center[1], info.sphere_center[2]};
-  const ml::Camera camera = ml::frame_sphere(centre, info.sphere_radius, 24, 16, 45 << 16);
+  const ml::Camera camera = fuzz::small_camera(s);
   ml::RenderOptions options[2];
   options[0].renderer = ml::RendererKind::Tiler;
   options[1].renderer = ml::RendererKind::Scanline;
-  for (const ml::RenderOptions& o : options) {
-    const size_t bytes = ml::render_arena_bytes(s, camera, o) + ml::render_spare_bytes(s, camera, o);
-    if (bytes > (size_t(64) << 20)) continue;  // (within -rss_limit_mb)
-    std::vector<uint8_t> storage(bytes, fuzz::kPoison);
-    ml::Arena arena(storage.data(), bytes);
-    fuzz::CheckingSink sink;
-    ml::Stats stats;
-    (void)ml::render(s, camera, o, arena, sink, &stats);
-  }
+  constexpr size_t kMaxArenaBytes = size_t(64) << 20;  // (within -rss_limit_mb)
+  for (const ml::RenderOptions& o : options) (void)fuzz::render_checked(s, camera, o, true, kMaxArenaBytes);
 }
 
 }  // namespace

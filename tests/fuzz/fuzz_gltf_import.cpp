@@ -16,23 +16,18 @@
 
 #include "render/render.h"
 #include "scene/scene.h"
-#include "tests/fuzz/checking_sink.h"
+#include "tests/fuzz/checked_render.h"
 #include "tools/scenec/scenec.h"
 #include "view/view.h"
 
 namespace {
-
-using fuzz::CheckingSink;
-using fuzz::kPoison;
 
 // The render step, in one place (the render and sink API are the part most likely to change): both
 // renderers at a small size with the default framing; scanline also with 2x2 samples and Gouraud; the
 // tiler also with its spare bytes (band plan, kept node rectangles and cone answers, vertex cache) in
 // 4-row bands rendered one at a time, Gouraud.
 void render_small(const ml::Scene& scene) {
-  const ml::SceneInfo& info = *scene.info;
-  const ml::Vec3i centre{info.sphere_center[0], info.sphere_center[1], info.sphere_center[2]};
-  const ml::Camera camera = ml::frame_sphere(centre, info.sphere_radius, 24, 16, 45 << 16);
+  const ml::Camera camera = fuzz::small_camera(scene);
   ml::View view;
   if (!ml::make_view(camera, &view).ok()) abort();   // the default framing must work for any valid scene
   ml::RenderOptions options[4];
@@ -46,16 +41,8 @@ void render_small(const ml::Scene& scene) {
   options[3].output.band_rows = 4;
   options[3].output.render_rows = 4;
   constexpr int kWithSpare = 3;  // the option rendered with render_spare_bytes as well
-  for (int i = 0; i < 4; ++i) {
-    const ml::RenderOptions& o = options[i];
-    const size_t spare = i == kWithSpare ? ml::render_spare_bytes(scene, camera, o) : 0;
-    const size_t bytes = ml::render_arena_bytes(scene, camera, o) + spare;
-    std::vector<uint8_t> storage(bytes, kPoison);
-    ml::Arena arena(storage.data(), bytes);
-    CheckingSink sink;
-    ml::Stats stats;
-    if (!ml::render(scene, camera, o, arena, sink, &stats).ok()) abort();
-  }
+  for (int i = 0; i < 4; ++i)
+    if (!fuzz::render_checked(scene, camera, options[i], i == kWithSpare).ok()) abort();
 }
 
 }  // namespace
