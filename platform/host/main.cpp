@@ -59,7 +59,7 @@ const char* const kMainHelp =
     "scene is used. Exit codes: 0 ok, 1 read or render failure, 2 bad usage.\n";
 
 const char* const kCompileHelp =
-    "usage: maskline compile IN.glb|IN.gltf -o OUT.mls [--texture-format F] [--texture-max N]\n"
+    "usage: maskline compile IN.glb|IN.gltf -o OUT.mls [--texture-format F] [--texture-max N] [--mips M]\n"
     "\n"
     "Compiles a glTF 2.0 file into a scene blob (.mls): every node of the default scene with its\n"
     "transform, triangle primitives, materials, textures, a BSP tree. Prints a summary; warnings go to\n"
@@ -67,7 +67,9 @@ const char* const kCompileHelp =
     "  --texture-format F   auto (default: grey4 for grey images of <= 16 levels, palette8 for <= 256\n"
     "                       colours, else rgb565), rgb565, palette8 (median cut), grey4, or none (no\n"
     "                       texels: base colours, for a board built without textures)\n"
-    "  --texture-max N      longest texture side after resampling to powers of two, 1..1024 (default 256)\n";
+    "  --texture-max N      longest texture side after resampling to powers of two, 1..1024 (default 256)\n"
+    "  --mips M             mip levels down to 1x1, sampled one a triangle: auto (default: for textures\n"
+    "                       whose glTF sampler asks for them, minFilter *_MIPMAP_*), on or off\n";
 
 const char* const kInfoHelp =
     "usage: maskline info [SCENE] [--size WxH] [--aa N] [--renderer tiler|scanline]\n"
@@ -355,7 +357,7 @@ struct MappedArena {
 // ---- commands -------------------------------------------------------------------------------------
 
 int cmd_compile(int argc, char** argv) {
-  const Args a = parse_args(argc, argv, 2, {"-o", "--texture-format", "--texture-max"}, {}, "compile");
+  const Args a = parse_args(argc, argv, 2, {"-o", "--texture-format", "--texture-max", "--mips"}, {}, "compile");
   if (a.help) {
     fputs(kCompileHelp, stdout);
     return 0;
@@ -375,6 +377,12 @@ int cmd_compile(int argc, char** argv) {
   }
   if (const auto* v = find_option(a, "--texture-max"))
     options.texture_max_size = int(parse_integer("--texture-max", *v, 1, ml::kMaxTextureDim));
+  if (const auto* v = find_option(a, "--mips")) {
+    if (*v == "auto") options.texture_mips = ml::TextureMipChoice::Auto;
+    else if (*v == "on") options.texture_mips = ml::TextureMipChoice::On;
+    else if (*v == "off") options.texture_mips = ml::TextureMipChoice::Off;
+    else usage_error("--mips: expected auto, on or off, got '" + *v + "'");
+  }
   mlhost::LoadedScene loaded;
   const ml::Scene s = require_scene(in, &loaded, options);
   std::string error;
@@ -407,7 +415,9 @@ void print_textures(const ml::Scene& scene) {
     }
     printf("texture %u: %ux%u %s", i, t.width, t.height, texel_format_name(t.format));
     if (t.format == uint8_t(ml::TexelFormat::Palette8)) printf(" (%u colours)", t.palette_size);
-    printf(", %u bytes, wrap %s/%s, %s\n", t.bytes, kWrap[t.wrap_s], kWrap[t.wrap_t],
+    printf(", %u bytes", t.bytes);
+    if (t.levels > 0) printf(" with %u mip levels", t.levels);
+    printf(", wrap %s/%s, %s\n", kWrap[t.wrap_s], kWrap[t.wrap_t],
            t.filter == uint8_t(ml::TextureFilter::Bilinear) ? "bilinear" : "nearest");
   }
   const ml::TexturePoolNeeds needs = ml::texture_pool_needs(scene);

@@ -632,6 +632,8 @@ struct Renderer {
   TexturePager pager;
   uint32_t* tex_of = nullptr;
   TexSlot* tex_slots = nullptr;
+  TextureTexels level_texels_{};  // look_up_level's: the texels of mip level level_ of level_texture_
+  uint32_t level_offset_ = 0, level_texture_ = kNone, level_ = 0;
   SlotLut* tex_lut = nullptr;
   static constexpr uint32_t kTexReady = 0x80000000u;
   static constexpr uint32_t kTexturedChunk = 64;  // samples a supersampled textured run makes at once
@@ -639,13 +641,13 @@ struct Renderer {
 #if UINTPTR_MAX > 0xFFFFFFFFu
   KeptSampling kept_sampling;  // small triangles' spans' sampling (texture_run, 64-bit hosts)
   // A row's small textured triangles' spans, waiting to be sampled in one call (sample_small_spans):
-  // a span is a few samples, and a call and its set-up each cost about as much. All of one texture,
-  // whose bytes stay put while they wait: any other use of the pager samples them first.
+  // a span is a few samples, and a call and its set-up each cost about as much. All of one texture
+  // and mip level, whose bytes stay put while they wait: any other use of the pager samples them first.
   struct PendingSpans {
     static constexpr uint32_t kMax = 32;
     SmallSpan span[kMax];
-    uint32_t count = 0, texture = kNone;
-    const uint8_t* bytes = nullptr;
+    uint32_t count = 0, texture = kNone, level = 0;
+    const uint8_t* bytes = nullptr;  // the level's
   } pending;
 #endif
 
@@ -797,19 +799,19 @@ struct Renderer {
   // falls back). Texture coordinates come from the whole triangle, as in the tiler.
   Pixel texture(uint32_t slot, uint32_t id, int32_t x, int32_t y, Pixel c) {
     const uint32_t texture = tex_of[slot] & ~kTexReady;
-    const uint8_t* bytes = texture_bytes(texture, false, y);
-    if (!bytes) return c;
     TexturePlanes& planes = planes_of(slot, id);
+    const uint8_t* bytes = texture_bytes(texture, planes.level, false, y);
+    if (!bytes) return c;
+    const TextureTexels& t = level_texels(texture, planes.level);
 #if UINTPTR_MAX > 0xFFFFFFFFu
     if (planes.exact && !(act[slot].flags & kSmooth)) {  // a small triangle's sample as its spans take them
       Pixel out;
-      sample_row(kept_sampling.for_texture(pager, *scene, texture, bytes, planes, c), x, y, 1, &out);
+      sample_row(kept_sampling.for_texture(pager, t, texture, bytes, planes, c), x, y, 1, &out);
       return out;
     }
 #endif
     int32_t uv[2];
     texture_uv(planes, x, y, uv);
-    const TextureTexels& t = scene->texture_texels[texture];
     if (act[slot].flags & kSmooth) return sample_texture(t, bytes, uv, c, planes.exact);
     // A flat piece's samples keep the texel table the pager has cached for its colour (the same
     // colours as without it; looked up again when the pager makes a table). Without one, the pager
@@ -859,7 +861,7 @@ struct Renderer {
     const uint32_t slot = slot_of(a), texture = tex_of[slot] & ~kTexReady, n = uint32_t(x1 - x0 + 1);
     stats->shading_calls += n;
     TexturePlanes& planes = planes_of(slot, a.id);
-    const uint8_t* bytes = texture_bytes(texture, kWait && planes.exact, y);
+    const uint8_t* bytes = texture_bytes(texture, planes.level, kWait && planes.exact, y);
     if (!bytes) {
       for (uint32_t i = 0; i < n; ++i) out[i] = a.color[0];
       return true;
@@ -871,16 +873,17 @@ struct Renderer {
     if (planes.exact) {
 #if UINTPTR_MAX > 0xFFFFFFFFu
       if (!kWait) {  // kept from small triangle to small triangle
-        sample_row(kept_sampling.for_texture(pager, *scene, texture, bytes, planes, c), x0, y, int32_t(n), out);
+        sample_row(kept_sampling.for_texture(pager, level_texels(texture, planes.level), texture, bytes, planes, c), x0,
+                   y, int32_t(n), out);
         return true;
       }
       // Sampled with the row's others (sample_small_spans).
-      if (pending.count == 0) pending.texture = texture, pending.bytes = bytes;
+      if (pending.count == 0) pending.texture = texture, pending.level = planes.level, pending.bytes = bytes;
       pending.span[pending.count++] = SmallSpan{&planes, c, x0, int32_t(n)};
       a.flags |= kSmallTextured;
 #else
       const Pixel* white = pager.white_lut(texture, bytes);
-      texture_row(planes, scene->texture_texels[texture], bytes, white, 0xFFFFFF, c, x0, y, int32_t(n), out,
+      texture_row(planes, level_texels(texture, planes.level), bytes, white, 0xFFFFFF, c, x0, y, int32_t(n), out,
                   pager.lanes_for(texture, white, 0xFFFFFF, c, true));
 #endif
       return true;
@@ -893,21 +896,42 @@ struct Renderer {
       l.generation = pager.lut_generation();
       l.untabled = 0;
     }
-    texture_row(planes, scene->texture_texels[texture], bytes, l.lut, l.lut_colour, c, x0, y, int32_t(n), out,
+    texture_row(planes, level_texels(texture, planes.level), bytes, l.lut, l.lut_colour, c, x0, y, int32_t(n), out,
                 pager.lanes_for(texture, l.lut, l.lut_colour, c, false));
     return true;
   }
-  // The texture's bytes (TexturePager::get). The waiting small spans are sampled first, unless this is
-  // for another small span of their texture (it joins them: their bytes are its).
-  const uint8_t* texture_bytes(uint32_t texture, bool small, int32_t y) {
+  // The bytes of the texture's mip level `level` (TexturePager::get's, moved to the level). The
+  // waiting small spans are sampled first, unless this is for another small span of their texture and
+  // level (it joins them: their bytes are its).
+  ML_HOST_INLINE const uint8_t* texture_bytes(uint32_t texture, uint32_t level, bool small, int32_t y) {
 #if UINTPTR_MAX > 0xFFFFFFFFu
-    if (small && pending.count != 0 && pending.texture == texture && pending.count < PendingSpans::kMax)
+    if (small && pending.count != 0 && pending.texture == texture && pending.level == level &&
+        pending.count < PendingSpans::kMax)
       return pending.bytes;
     sample_small_spans(y);
 #else
     (void)small, (void)y;
 #endif
-    return pager.get(texture);
+    const uint8_t* bytes = pager.get(texture);
+    return level == 0 || !bytes ? bytes : level_bytes(texture, level, bytes);
+  }
+  [[gnu::noinline]] const uint8_t* level_bytes(uint32_t texture, uint32_t level, const uint8_t* bytes) {
+    look_up_level(texture, level);
+    return bytes + level_offset_;
+  }
+  // The texels of the texture's mip level `level` (texture_level_texels; level 0: the scene's), valid
+  // until one of another texture or level is asked for.
+  const TextureTexels& level_texels(uint32_t texture, uint32_t level) {
+    if (level == 0) return scene->texture_texels[texture];
+    look_up_level(texture, level);
+    return level_texels_;
+  }
+  // level_texels_ and level_offset_ for (texture, level > 0), kept for the last asked: a frame's runs
+  // ask for a few, again and again.
+  [[gnu::noinline]] void look_up_level(uint32_t texture, uint32_t level) {
+    if (texture == level_texture_ && level == level_) return;
+    level_texels_ = texture_level_texels(scene->texture_texels[texture], level, &level_offset_);
+    level_texture_ = texture, level_ = level;
   }
 #if UINTPTR_MAX > 0xFFFFFFFFu
   // texture_run's answer for a span of a small triangle of the waiting spans' texture, its planes
@@ -915,7 +939,8 @@ struct Renderer {
   bool join_small_span(ActiveTri& a, int32_t x0, int32_t x1) {
     if (!(a.flags & kSmallTextured)) return false;
     const uint32_t slot = slot_of(a);
-    if (pending.count == 0 || pending.count == PendingSpans::kMax || tex_of[slot] != (pending.texture | kTexReady))
+    if (pending.count == 0 || pending.count == PendingSpans::kMax || tex_of[slot] != (pending.texture | kTexReady) ||
+        tex_slots[slot].planes.level != pending.level)
       return false;
     stats->shading_calls += uint64_t(x1 - x0 + 1);
     pending.span[pending.count++] = SmallSpan{&tex_slots[slot].planes, a.color[0], x0, x1 - x0 + 1};
@@ -928,7 +953,8 @@ struct Renderer {
     if (pending.count == 0) return;
     const SmallSpan& first = pending.span[0];
     const TextureSampling& sampling =
-        kept_sampling.for_texture(pager, *scene, pending.texture, pending.bytes, *first.planes, first.colour);
+        kept_sampling.for_texture(pager, level_texels(pending.texture, pending.level), pending.texture, pending.bytes,
+                                  *first.planes, first.colour);
     sample_spans(sampling, pending.span, pending.count, y, keep_surface);
     pending.count = 0;
 #else

@@ -221,13 +221,14 @@ enum class TextureFilter : uint8_t { Nearest = 0, Bilinear = 1 };
 
 struct TextureTexels {
   uint32_t offset;             // of the texture's first byte in Texels, a multiple of 4
-  uint32_t bytes;              // texture_bytes(format, width, height, palette_size)
+  uint32_t bytes;              // texture_chain_bytes(format, width, height, palette_size, levels)
   uint16_t width, height;      // powers of two, 1..kMaxTextureDim (core/fixed.h); 0 with format None
   uint8_t format;              // TexelFormat
   uint8_t wrap_s, wrap_t;      // TextureWrap, for u and v
   uint8_t filter;              // TextureFilter (magnification and minification alike)
   uint16_t palette_size;       // Palette8: 1..256 colours; otherwise 0
-  uint16_t reserved;
+  uint8_t levels;              // mip levels after the texture's own: 0..texture_max_levels(width, height)
+  uint8_t reserved;            // 0
 };
 static_assert(sizeof(TextureTexels) == 20, "TextureTexels layout");
 
@@ -238,5 +239,30 @@ constexpr uint32_t texture_bytes(TexelFormat format, uint32_t width, uint32_t he
          : format == TexelFormat::Grey4    ? ((width + 1) / 2) * height
                                            : 0;
 }
+
+// Mip levels: level L (1..levels) halves the sides L times, down to 1 (level_side), and is stored
+// whole after level L - 1, in the texture's format (a Palette8 level with its own copy of the
+// palette), so that a level's bytes and its TextureTexels (texture_level_texels) read as a texture
+// of their own.
+constexpr uint32_t level_side(uint32_t side, uint32_t level) { return side >> level ? side >> level : 1u; }
+// The most levels a texture of these sides can have: until both sides are 1.
+constexpr uint32_t texture_max_levels(uint32_t width, uint32_t height) {
+  uint32_t n = 0;
+  while ((width >> n) > 1u || (height >> n) > 1u) ++n;
+  return n;
+}
+// Bytes of a texture and its levels 1..levels; with last = L, the offset of level L + 1 from its
+// first byte.
+constexpr uint32_t texture_chain_bytes(TexelFormat format, uint32_t width, uint32_t height, uint32_t palette_size,
+                                       uint32_t last) {
+  uint32_t bytes = 0;
+  for (uint32_t l = 0; l <= last; ++l)
+    bytes += texture_bytes(format, level_side(width, l), level_side(height, l), palette_size);
+  return bytes;
+}
+// Level `level` (0: the texture itself) of texture t as a texture of its own: its sides and bytes;
+// *offset: of its first byte from the texture's.
+// (scene/reader.cpp: one copy, for the boards' flash.)
+TextureTexels texture_level_texels(const TextureTexels& t, uint32_t level, uint32_t* offset);
 
 }  // namespace ml

@@ -153,6 +153,21 @@ Status check_materials(const Scene& s) {
   return ok_status();
 }
 
+}  // namespace
+
+TextureTexels texture_level_texels(const TextureTexels& t, uint32_t level, uint32_t* offset) {
+  TextureTexels l = t;
+  *offset = level ? texture_chain_bytes(TexelFormat(t.format), t.width, t.height, t.palette_size, level - 1) : 0u;
+  l.offset = t.offset + *offset;
+  l.width = uint16_t(level_side(t.width, level));
+  l.height = uint16_t(level_side(t.height, level));
+  l.bytes = texture_bytes(TexelFormat(t.format), l.width, l.height, t.palette_size);
+  l.levels = 0;
+  return l;
+}
+
+namespace {
+
 bool power_of_two_side(uint32_t v) { return v >= 1 && v <= kMaxTextureDim && (v & (v - 1)) == 0; }
 
 Status check_texture(const TextureTexels& t, uint32_t texel_bytes) {
@@ -163,14 +178,17 @@ Status check_texture(const TextureTexels& t, uint32_t texel_bytes) {
   if (t.reserved != 0) return bad("texture reserved field not zero");
   const TexelFormat format = TexelFormat(t.format);
   if (format == TexelFormat::None) {
-    if (t.width != 0 || t.height != 0 || t.bytes != 0 || t.palette_size != 0) return bad("empty texture not zero");
+    if (t.width != 0 || t.height != 0 || t.bytes != 0 || t.palette_size != 0 || t.levels != 0)
+      return bad("empty texture not zero");
     return ok_status();
   }
   if (!power_of_two_side(t.width) || !power_of_two_side(t.height)) return bad("texture size not a power of two up to limit");
   const bool palette = format == TexelFormat::Palette8;
   if (palette ? (t.palette_size < 1 || t.palette_size > 256) : t.palette_size != 0)
     return bad("texture palette size invalid");
-  if (t.bytes != texture_bytes(format, t.width, t.height, t.palette_size)) return bad("texture byte count wrong");
+  if (t.levels > texture_max_levels(t.width, t.height)) return bad("texture mip levels invalid");
+  if (t.bytes != texture_chain_bytes(format, t.width, t.height, t.palette_size, t.levels))
+    return bad("texture byte count wrong");
   if ((t.offset & 3u) != 0) return bad("texture offset not 4-byte aligned");
   if (!range_ok(t.offset, t.bytes, texel_bytes)) return bad("texture texels outside texels section");
   return ok_status();

@@ -124,6 +124,7 @@ void planes_from_view(const View& view, const Vec3i viewed[3], const int32_t uv[
   static_assert(kTextureAffineShiftBits + kTextureSegmentBits == 8, "65 dd is for the test's 1/64 (mapping.h)");
   out->whole_denom = 65 * (magnitude(out->a[0] + out->a[1] + out->a[2]) << kTextureSegmentBits);
   out->exact = out->boxed = false;
+  out->level = 0;
   clear_texture_caches(out);
 }
 
@@ -387,6 +388,7 @@ ML_HOST_INLINE inline bool boxed_planes(const View& view, const Vec3i viewed[3],
   out->size_bits[1] = __builtin_ctz(max_of(height, 1u));
   out->error_bits = error_bits;
   out->exact = out->boxed = true;
+  out->level = 0;
   out->rows = nullptr;
   out->row_mask = 0;
   out->piece.y = -1;
@@ -419,7 +421,8 @@ ML_HOST_INLINE inline bool small_box(const View& view, const ViewTriangle& viewe
   return x1 - x0 < kTextureExactSide && y1 - y0 < kTextureExactSide;
 }
 
-// triangle_texture_planes once the triangle's view and coordinates are at hand.
+// triangle_texture_planes once the triangle's view and coordinates are at hand, for level 0 of t
+// (the caller picks the level).
 ML_HOST_INLINE inline void planes_of_view(const View& view, const ViewTriangle& viewed, const int32_t uv[3][2],
                                           const TextureTexels& t, int32_t den, int32_t ox, int32_t oy,
                                           TexturePlanes* out) {
@@ -451,6 +454,42 @@ void view_texture_planes(const View& view, const ViewTriangle& viewed, const int
 }
 #endif
 
+namespace {
+// Shifts the four differences right by the same s >= 0 until each is at most 2^13 in magnitude (the
+// cross product of two such pairs then fits an int32) and returns s.
+ML_HOST_INLINE inline int fit_14_bits(int32_t d[4]) {
+  const auto size = [](int32_t v) { return v < 0 ? ~uint32_t(v) : uint32_t(v); };  // below 2^b when |v| < 2^b
+  const uint32_t bits = size(d[0]) | size(d[1]) | size(d[2]) | size(d[3]);
+  const int s = max_of(0, bits ? 32 - __builtin_clz(bits) - 13 : 0);
+  d[0] >>= s, d[1] >>= s, d[2] >>= s, d[3] >>= s;
+  return s;
+}
+}  // namespace
+
+uint32_t texture_level(const TextureTexels& t, const ViewTriangle& viewed, const int32_t uv[3][2], int32_t den) {
+  if (t.levels == 0 || !viewed.unclipped) return 0;
+  // Twice the area in texture coordinates (Q15 squared: halved, the differences fit an int32) and in
+  // samples (subpixels times den, squared), each from its differences scaled to 14 bits (by 2^su and
+  // 2^ss). Screen offsets lie within the guard band (2^22 x den < 2^31).
+  int32_t d[4] = {(uv[1][0] >> 1) - (uv[0][0] >> 1), (uv[1][1] >> 1) - (uv[0][1] >> 1),
+                  (uv[2][0] >> 1) - (uv[0][0] >> 1), (uv[2][1] >> 1) - (uv[0][1] >> 1)};
+  int32_t p[4] = {int32_t(viewed.ox[1] - viewed.ox[0]) * den, int32_t(viewed.oy[1] - viewed.oy[0]) * den,
+                  int32_t(viewed.ox[2] - viewed.ox[0]) * den, int32_t(viewed.oy[2] - viewed.oy[0]) * den};
+  const int su = fit_14_bits(d), ss = fit_14_bits(p);
+  const int32_t texels_signed = d[0] * d[3] - d[2] * d[1], samples_signed = p[0] * p[3] - p[2] * p[1];
+  const uint32_t texels = texels_signed < 0 ? uint32_t(-texels_signed) : uint32_t(texels_signed);
+  const uint32_t samples = samples_signed < 0 ? uint32_t(-samples_signed) : uint32_t(samples_signed);
+  if (texels == 0) return 0;
+  if (samples == 0) return t.levels;
+  // r = texels 4^su width height 2^-30 / (samples 4^ss 2^-16), and 4^L <= 2 r when 2 L <= f =
+  // floor(log2(texels 2^e / samples)): the bit lengths' difference, less one when texels' leading bits
+  // (both shifted to bit 31) are below samples'.
+  const int tz = __builtin_clz(texels), sz = __builtin_clz(samples);
+  const int e = 2 * (su - ss) + log2_of(t.width) + log2_of(t.height) - 14 + 1;
+  const int f = e + sz - tz - ((texels << tz) < (samples << sz) ? 1 : 0);
+  return f < 0 ? 0 : min_of(uint32_t(f) / 2, uint32_t(t.levels));
+}
+
 void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, uint32_t texture, int32_t den,
                              int32_t ox, int32_t oy, TexturePlanes* out, const ViewTriangle* viewed) {
   ViewTriangle own;
@@ -463,7 +502,16 @@ void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, 
   const Triangle tri = triangle_at(scene, id);
   int32_t uv[3][2] = {};  // a scene without coordinates: all 0, as vertex_uv gives
   if (scene.uvs) ML_HOST_UNROLL for (int i = 0; i < 3; ++i) vertex_uv(scene, tri.v[i], uv[i]);  // (one test of them)
-  planes_of_view(view, *viewed, uv, scene.texture_texels[texture], den, ox, oy, out);
+  const TextureTexels* t = &scene.texture_texels[texture];
+  const uint32_t level = t->levels ? texture_level(*t, *viewed, uv, den) : 0;
+  TextureTexels level_texels;
+  if (level != 0) {
+    uint32_t offset;
+    level_texels = texture_level_texels(*t, level, &offset);
+    t = &level_texels;
+  }
+  planes_of_view(view, *viewed, uv, *t, den, ox, oy, out);
+  out->level = uint8_t(level);
 }
 
 }  // namespace ml

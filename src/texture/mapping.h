@@ -103,6 +103,7 @@ struct TexturePlanes {
   int32_t error_bits;         // the affine error bound allowed: 2^-error_bits texel
   bool exact;                 // a small triangle: no segments, each sample's coordinates its own
   bool boxed;                 // a small triangle's sums scaled once for its box (`sums`), else divided
+  uint8_t level;              // the mip level sampled (texture_level), whose texels the planes are for
   uint64_t whole_denom;       // texture_segment_whole's threshold on |sum e_i| (65 dd)
   // Caches, so that drawing costs about one exact division a segment: the segments decided (one,
   // or one per row of a few rows for a renderer that draws blocks, use_segment_rows), the piece
@@ -323,9 +324,17 @@ class BatchTextures {
 #endif
 };
 
+// The mip level a triangle samples of texture t (0 when t has none, or when the view clips the
+// triangle): the level whose texels come nearest one a sample, from the triangle's area in texels
+// over its area in samples (ratio r): the greatest L <= t.levels with 4^L <= 2 r, that is L =
+// floor(log2(r) / 2 + 1/2), in integers (docs/textures.md). Both renderers choose it from the same
+// projected vertices, so they sample the same level.
+uint32_t texture_level(const TextureTexels& t, const ViewTriangle& viewed, const int32_t uv[3][2], int32_t den);
+
 // make_texture_planes for triangle `id` of the scene (its world positions and TEXCOORD_0), drawn with
-// texture `texture`, and whether it is small (exact: its sample box from its projected vertices, so
-// that both renderers decide alike).
+// texture `texture` at its texture_level (TexturePlanes::level: the planes are for that level's
+// texels, texture_level_texels), and whether it is small (exact: its sample box from its projected
+// vertices, so that both renderers decide alike).
 // viewed: the whole triangle's view_triangle when the caller has it (else it is made here).
 void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, uint32_t texture, int32_t den,
                              int32_t ox, int32_t oy, TexturePlanes* out, const ViewTriangle* viewed = nullptr);

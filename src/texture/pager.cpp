@@ -233,10 +233,11 @@ void TexturePager::make_lanes(uint32_t t, uint32_t slot) {
 }
 
 #if UINTPTR_MAX > 0xFFFFFFFFu
-void KeptSampling::look_up(TexturePager& pager, const Scene& scene, uint32_t texture, const uint8_t* bytes,
+void KeptSampling::look_up(TexturePager& pager, const TextureTexels& t, uint32_t texture, const uint8_t* bytes,
                            TexturePlanes& planes, Pixel colour) {
   const Pixel* white = pager.white_lut(texture, bytes);
-  sampling_ = texture_sampling(planes, scene.texture_texels[texture], bytes, white, 0xFFFFFF, colour,
+  texels_ = t;
+  sampling_ = texture_sampling(planes, texels_, bytes, white, 0xFFFFFF, colour,
                                pager.lanes_for(texture, white, 0xFFFFFF, colour, true));
   texture_ = texture;
   generation_ = pager.lut_generation();

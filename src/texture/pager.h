@@ -186,13 +186,13 @@ class TexturePager {
 // another texture's white table asked for).
 class KeptSampling {
  public:
-  // The sampling of the scene's texture `texture` (bytes: from TexturePager::get) for a small
-  // triangle's planes, drawn in `colour`.
-  const TextureSampling& for_texture(TexturePager& pager, const Scene& scene, uint32_t texture,
+  // The sampling of the scene's texture `texture` for a small triangle's planes, drawn in `colour`:
+  // texels t and bytes of the planes' mip level (texture_level_texels; bytes from TexturePager::get).
+  const TextureSampling& for_texture(TexturePager& pager, const TextureTexels& t, uint32_t texture,
                                      const uint8_t* bytes, TexturePlanes& planes, Pixel colour) {
     if (texture != texture_ || bytes != sampling_.bytes || pager.lut_generation() != generation_ ||
         !pager.white_lut_ready(texture))
-      look_up(pager, scene, texture, bytes, planes, colour);
+      look_up(pager, t, texture, bytes, planes, colour);
     sampling_.planes = &planes;
     sampling_.colour = colour;
     return sampling_;
@@ -200,10 +200,11 @@ class KeptSampling {
 
  private:
   // Out of line: seldom taken, and the renderers' loops keep their registers.
-  void look_up(TexturePager& pager, const Scene& scene, uint32_t texture, const uint8_t* bytes,
+  void look_up(TexturePager& pager, const TextureTexels& t, uint32_t texture, const uint8_t* bytes,
                TexturePlanes& planes, Pixel colour);
 
   TextureSampling sampling_{};
+  TextureTexels texels_{};  // sampling_'s texels, copied (a mip level's are a caller's temporary)
   uint32_t texture_ = kNone, generation_ = 0;  // sampling_'s texture and the pager's lut_generation then
 };
 #endif

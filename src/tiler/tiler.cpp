@@ -366,8 +366,9 @@ class BandWriter : public CoverageWriter {
     if (!bytes) return c;
     int32_t uv[2];
     TexturePlanes& planes = texture_planes();
+    const TextureTexels& t = level_texels(&bytes);
     texture_uv(planes, px, py, uv);
-    return sample_texture(scene_->texture_texels[texture_], bytes, uv, c, planes.exact);
+    return sample_texture(t, bytes, uv, c, planes.exact);
   }
   TexturePlanes& texture_planes() { return texture_ready_ ? texture_planes_ : make_texture_planes(); }
   [[gnu::noinline]] TexturePlanes& make_texture_planes() {  // once a piece, off the per-block paths
@@ -385,6 +386,19 @@ class BandWriter : public CoverageWriter {
     lean_sampling_ = nullptr;  // an earlier piece's: this piece's first block sets its own
 #endif
     return texture_planes_;
+  }
+
+  // The texels the piece samples, its planes' mip level (texture_level_texels), with *bytes (the
+  // texture's, from the pager) moved to the level's (once its planes are ready).
+  const TextureTexels& level_texels(const uint8_t** bytes) {
+    const TextureTexels& t = scene_->texture_texels[texture_];
+    return texture_planes_.level == 0 ? t : level_copy(t, bytes);
+  }
+  [[gnu::noinline]] const TextureTexels& level_copy(const TextureTexels& t, const uint8_t** bytes) {
+    uint32_t offset;
+    level_copy_ = texture_level_texels(t, texture_planes_.level, &offset);
+    *bytes += offset;
+    return level_copy_;
   }
 
   // Whether the piece's triangle may be drawn again, so that its planes are worth keeping (PlaneCache,
@@ -436,7 +450,7 @@ class BandWriter : public CoverageWriter {
     int32_t count = 0;
     while (mask != 0) runs[count++] = take_mask_run(&mask, x, y);
     // One texture_runs for the block, then its runs out.
-    const TextureTexels& t = scene_->texture_texels[texture_];
+    const TextureTexels& t = level_texels(&bytes);
     texture_runs(planes, t, bytes, lut_, lut_colour_, colors_.flat, runs, count, row_,
                  pager_->lanes_for(texture_, lut_, lut_colour_, colors_.flat, true));
     const Pixel* colours = row_;
@@ -496,7 +510,8 @@ class BandWriter : public CoverageWriter {
   // (or run by run). The sampling is kept from small piece to small piece (KeptSampling); each piece
   // sets its colour.
   bool write_textured_mask(TexturePlanes& planes, const uint8_t* bytes, uint64_t mask, int x, int y) {
-    lean_sampling_ = &kept_sampling_.for_texture(*pager_, *scene_, texture_, bytes, planes, colors_.flat);
+    const TextureTexels& t = level_texels(&bytes);
+    lean_sampling_ = &kept_sampling_.for_texture(*pager_, t, texture_, bytes, planes, colors_.flat);
     return sample_lean_block(mask, x, y);
   }
   // The block through the piece's sampling (forced inline: called out of line it cost the duck's frame
@@ -537,8 +552,8 @@ class BandWriter : public CoverageWriter {
         }
       return;
     }
-    const TextureTexels& t = scene_->texture_texels[texture_];
     TexturePlanes& planes = texture_planes();
+    const TextureTexels& t = level_texels(&bytes);
     lookup_lut(bytes, uint32_t(w) * uint32_t(h), planes.exact);
     const Pixel* lut = lut_;
     const Pixel lut_colour = lut_colour_;
@@ -632,6 +647,7 @@ class BandWriter : public CoverageWriter {
   TexturePager* pager_ = nullptr;
   const View* view_ = nullptr;
   uint32_t texture_ = kNone;
+  TextureTexels level_copy_{};  // level_copy's answer
   bool texture_ready_ = false;
   TexturePlanes texture_planes_{};
   TextureSegment* segment_rows_ = nullptr;

@@ -173,7 +173,7 @@ render_on_qemu render-on-qemu "160x120 scanline aa 2 gouraud with its own eye" "
   --renderer scanline --aa 2 --shading gouraud --size 160x120 --eye 6,4,8 --target 0,1,0
 render_on_qemu render-on-qemu-tiler-aa "160x120 tiler aa 4 (box filter) in 8-row bands" "$fw/scenes/default.mls" \
   --renderer tiler --aa 4 --band-rows 8 --size 160x120
-# A 65,646-byte texture on a 64 KB board: sampled in place from the flash blob.
+# A 90,819-byte texture (with its mip levels) on a 64 KB board: sampled in place from the flash blob.
 box_textured=/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb
 for r in tiler scanline; do
   render_on_qemu "render-on-qemu-textured-$r" "BoxTextured (texels read in place from flash) with the $r" "$box_textured" \

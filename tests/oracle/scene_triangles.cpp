@@ -2,6 +2,8 @@
 
 #include "tools/maskgen/filter_gen.h"
 
+#include <algorithm>
+
 namespace oracle {
 
 std::vector<Triangle> scene_triangles(const ml::Scene& scene) {
@@ -42,33 +44,45 @@ std::vector<Texture> scene_textures(const ml::Scene& scene) {
     // The format's expansion to 8 bits (blob_format.h): bit replication.
     return (r << 3 | r >> 2) << 16 | (g << 2 | g >> 4) << 8 | (b << 3 | b >> 2);
   };
-  for (uint32_t i = 0; i < scene.texture_texels_count; ++i) {
-    const ml::TextureTexels& t = scene.texture_texels[i];
-    Texture& tex = out[i];
-    if (t.format == uint8_t(ml::TexelFormat::None)) continue;
-    tex.width = t.width;
-    tex.height = t.height;
+  // Level l of texture t, read from its bytes as the blob format states them: levels one after the
+  // other, each halving the sides down to 1, a Palette8 level with its palette.
+  const auto decode = [&](const ml::TextureTexels& t, int level, size_t at, Texture* tex) {
+    tex->width = std::max(1, t.width >> level);
+    tex->height = std::max(1, t.height >> level);
     const Wrap wraps[3] = {Wrap::Repeat, Wrap::Mirrored, Wrap::Clamp};
-    tex.wrap_s = wraps[t.wrap_s];
-    tex.wrap_t = wraps[t.wrap_t];
-    tex.bilinear = t.filter == uint8_t(ml::TextureFilter::Bilinear);
-    const uint8_t* b = scene.texels + t.offset;
-    for (int y = 0; y < t.height; ++y)
-      for (int x = 0; x < t.width; ++x) {
-        const size_t k = size_t(y) * t.width + size_t(x);
+    tex->wrap_s = wraps[t.wrap_s];
+    tex->wrap_t = wraps[t.wrap_t];
+    tex->bilinear = t.filter == uint8_t(ml::TextureFilter::Bilinear);
+    const uint8_t* b = scene.texels + at;
+    size_t bytes = 0;
+    for (int y = 0; y < tex->height; ++y)
+      for (int x = 0; x < tex->width; ++x) {
+        const size_t k = size_t(y) * size_t(tex->width) + size_t(x);
         uint32_t c = 0;
         if (t.format == uint8_t(ml::TexelFormat::Rgb565)) {
           c = rgb565(b[2 * k] | uint32_t(b[2 * k + 1]) << 8);
+          bytes = 2 * (k + 1);
         } else if (t.format == uint8_t(ml::TexelFormat::Palette8)) {
           const uint32_t index = b[2 * size_t(t.palette_size) + k];
           c = rgb565(b[2 * index] | uint32_t(b[2 * index + 1]) << 8);
+          bytes = 2 * size_t(t.palette_size) + k + 1;
         } else {
-          const uint32_t byte = b[size_t(y) * ((t.width + 1) / 2) + size_t(x / 2)];
+          const size_t row = size_t(tex->width + 1) / 2;
+          const uint32_t byte = b[size_t(y) * row + size_t(x / 2)];
           const uint32_t g = ((x & 1) ? byte >> 4 : byte & 15) * 17;
           c = g << 16 | g << 8 | g;
+          bytes = size_t(y + 1) * row;
         }
-        tex.rgb.push_back(c);
+        tex->rgb.push_back(c);
       }
+    return bytes;
+  };
+  for (uint32_t i = 0; i < scene.texture_texels_count; ++i) {
+    const ml::TextureTexels& t = scene.texture_texels[i];
+    if (t.format == uint8_t(ml::TexelFormat::None)) continue;
+    size_t at = t.offset + decode(t, 0, t.offset, &out[i]);
+    out[i].levels.resize(t.levels);
+    for (int l = 1; l <= t.levels; ++l) at += decode(t, l, at, &out[i].levels[size_t(l - 1)]);
   }
   return out;
 }

@@ -16,6 +16,36 @@ int wrap(long i, int n, Wrap mode) {
 
 double channel(uint32_t c, int k) { return double((c >> (16 - 8 * k)) & 0xFF); }
 
+// Level margin: a level choice this close to the next is not compared (the renderers round the
+// projected vertices).
+constexpr double kLevelMargin = 0.02;
+
+// The mip level of triangle t with surface s of texture tex, or -1 when too close to call: its area in
+// texels over its area in pixels, projected exactly.
+int mip_level(const Triangle& t, const Surface& s, const Texture& tex, const Camera& cam, const Vec3& forward,
+              const Vec3& right, const Vec3& down, double focal) {
+  if (tex.levels.empty()) return 0;
+  double px[3], py[3];
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 d = sub(t.v[i], cam.eye);
+    const double z = dot(d, forward);
+    if (z <= cam.near) return -1;
+    px[i] = focal * dot(d, right) / z;
+    py[i] = focal * dot(d, down) / z;
+  }
+  const double pixels = std::fabs((px[1] - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (py[1] - py[0]));
+  const double texels = std::fabs((s.uv[1][0] - s.uv[0][0]) * (s.uv[2][1] - s.uv[0][1]) -
+                                  (s.uv[2][0] - s.uv[0][0]) * (s.uv[1][1] - s.uv[0][1])) *
+                        tex.width * tex.height;
+  if (texels == 0) return 0;
+  if (pixels == 0) return int(tex.levels.size());
+  const double lambda = std::log2(texels / pixels) / 2 + 0.5;
+  if (std::fabs(lambda - std::round(lambda)) < kLevelMargin && lambda > 1 - kLevelMargin &&
+      lambda < double(tex.levels.size()) + kLevelMargin)
+    return -1;
+  return std::clamp(int(std::floor(lambda)), 0, int(tex.levels.size()));
+}
+
 }  // namespace
 
 std::vector<TexturedPixel> texture_image(const std::vector<Triangle>& triangles, const std::vector<Surface>& surfaces,
@@ -54,7 +84,10 @@ std::vector<TexturedPixel> texture_image(const std::vector<Triangle>& triangles,
       double uv[2];
       if (!uv_at(x, uv)) continue;
       const double u = uv[0], v = uv[1];
-      const Texture& tex = textures[size_t(s.texture)];
+      const Texture& whole = textures[size_t(s.texture)];
+      const int level = mip_level(t, s, whole, cam, forward, right, down, focal);
+      if (level < 0) continue;
+      const Texture& tex = level == 0 ? whole : whole.levels[size_t(level - 1)];
       // The coordinate error allowed here, in texels.
       double delta = tex.bilinear ? error.texel_bilinear : error.texel_nearest;
       if (error.shift > 0) {

@@ -18,6 +18,9 @@ struct Texture {
   std::vector<uint32_t> rgb;  // 0xRRGGBB, rows top first
   Wrap wrap_s = Wrap::Repeat, wrap_t = Wrap::Repeat;
   bool bilinear = false;
+  // Mip levels 1, 2, ... (each a texture of its own). A triangle samples level
+  // floor(log2(texel area / pixel area) / 2 + 1/2), clamped to them (texture/mapping.h).
+  std::vector<Texture> levels;
 };
 
 struct Surface {
@@ -41,7 +44,9 @@ struct CoordinateError {
   int segment = 1;
 };
 
-// Expected unlit colours. texel_margin: nearest-filtered samples whose texel coordinate lies within
+// Expected unlit colours. Triangles whose mip level is within level_margin of the next (in that
+// level's log2 units) or that reach behind the near plane are left unknown when their texture has
+// levels. texel_margin: nearest-filtered samples whose texel coordinate lies within
 // this fraction of a texel (plus the coordinate error) of a texel edge are left unknown; bilinear
 // samples get a slack of twice the coordinate error times the largest step between neighbouring
 // texels, or the range of the texels within reach if smaller; edge_margin: pixels as in Result::decisive.

@@ -386,9 +386,9 @@ TEST(TextureRender, TilerAndScanlineImagesAreIdentical) {
 // and 1x1 sample lattice, the tiler's vertices transformed one by one (its vertex cache's
 // view_vertex) at pixel centres, with the same planes (a boxed small triangle: the same box sums).
 // Every textured triangle of every textured scene, at sizes where they are small, large and at the
-// limit between.
+// limit between. They choose the same mip level too.
 TEST(TextureRender, RenderersDecideAlikeWhichTrianglesAreSmall) {
-  size_t small = 0, large = 0;
+  size_t small = 0, large = 0, minified = 0;
   for (const std::string& path : textest::textured_scenes()) {
     const mlhost::LoadedScene& s = load(path);
     ASSERT_NE(s.scene.info, nullptr) << s.name;
@@ -417,6 +417,8 @@ TEST(TextureRender, RenderersDecideAlikeWhichTrianglesAreSmall) {
         ml::triangle_texture_planes(s.scene, view, id, texture, 1, ml::kSubpixelHalf, ml::kSubpixelHalf, &tiler_planes,
                                     &tiler_view);
         ASSERT_EQ(scanline_planes.exact, tiler_planes.exact) << path << " frame " << frame << " triangle " << id;
+        ASSERT_EQ(scanline_planes.level, tiler_planes.level) << path << " frame " << frame << " triangle " << id;
+        if (scanline_planes.level > 0) ++minified;
         ASSERT_EQ(scanline_planes.boxed, tiler_planes.boxed) << path << " frame " << frame << " triangle " << id;
         if (scanline_planes.boxed) {  // its sums in place of the planes (64-bit hosts: not written)
           const ml::BoxSums &a = scanline_planes.sums, &b = tiler_planes.sums;
@@ -438,6 +440,7 @@ TEST(TextureRender, RenderersDecideAlikeWhichTrianglesAreSmall) {
     }
   }
   EXPECT_GT(small, 20u);
+  EXPECT_GT(minified, 20u);  // triangles of textures with mip levels that sample one
   EXPECT_GT(large, 20u);
 }
 
@@ -599,7 +602,10 @@ TEST(TextureRender, SupersampledScanlineRunsGiveEachSampleItsOwnColour) {
             for (int32_t sx = x * lat.q; sx <= x * lat.q + lat.q; ++sx) {
               int32_t uv[2];
               ml::texture_uv(planes[tri], sx, sy, uv);
-              const ml::Pixel c = ml::sample_texture(t, s.scene.texels + t.offset, uv, colour, planes[tri].exact);
+              uint32_t offset;  // the texels of the planes' mip level
+              const ml::TextureTexels lt = ml::texture_level_texels(t, planes[tri].level, &offset);
+              const ml::Pixel c =
+                  ml::sample_texture(lt, s.scene.texels + t.offset + offset, uv, colour, planes[tri].exact);
               for (int k = 0; k < 3; ++k) sum[k] += (c >> (16 - 8 * k)) & 0xFF;
             }
           const uint32_t l2 = uint32_t(aa * aa);

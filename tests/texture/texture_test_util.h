@@ -24,11 +24,14 @@ inline std::string model(const std::string& rel) { return std::string(testfiles:
 // ./duckCM.tga).
 inline std::string duck_model() { return testfiles::converted_model("Collada/duck.dae", {"duckCM.tga"}); }
 
-// The textured inputs: the banded scene, the assimp models with textures and the duck.
+// The textured inputs: the banded scene, the assimp models with textures and the duck; BoxTextured's
+// sampler asks for mip levels, and the duck and the banded scene are also compiled with them ("mips:"
+// before a path: load() compiles it with --mips on).
 inline std::vector<std::string> textured_scenes() {
   return {"builtin:banded", model("BoxTextured-glTF/BoxTextured.gltf"), model("BoxTextured-glTF-Binary/BoxTextured.glb"),
           model("BoxTextured-glTF-Embedded/BoxTextured.gltf"), model("BoxTexcoords-glTF/boxTexcoords.gltf"),
-          model("textureTransform/TextureTransformTest.gltf"), duck_model()};
+          model("textureTransform/TextureTransformTest.gltf"), duck_model(), "mips:builtin:banded",
+          "mips:" + duck_model()};
 }
 
 // Loads once per test binary (compiling the models takes a moment under the sanitizers).
@@ -38,7 +41,13 @@ inline const mlhost::LoadedScene& load(const std::string& path) {
   if (found != cache.end()) return found->second;
   mlhost::LoadedScene& loaded = cache[path];
   std::string error;
-  if (!mlhost::load_scene(path, &loaded, &error)) loaded.name = "FAILED: " + error;
+  ml::CompileOptions options;
+  std::string file = path;
+  if (file.rfind("mips:", 0) == 0) {
+    file = file.substr(5);
+    options.texture_mips = ml::TextureMipChoice::On;
+  }
+  if (!mlhost::load_scene(file, &loaded, &error, false, options)) loaded.name = "FAILED: " + error;
   return loaded;
 }
 

@@ -230,7 +230,7 @@ ml::Status zbuffer_render(const ml::Scene& scene, const ml::Camera& camera, ml::
 int usage() {
   fprintf(stderr,
           "usage: bench prepare default|office[:LAYERS]|tessellated[:TRIANGLES]|banded[-plain|-nearest|-bilinear]|FILE|\n"
-          "                     plain:FILE|nearest:FILE|bilinear:FILE OUT.mls\n"
+          "                     plain:FILE|nearest:FILE|bilinear:FILE|mips:FILE OUT.mls\n"
           "       bench frame SCENE.mls tiler|scanline|zbuffer WxH AA[,cosine][,jittered] [flat|gouraud]\n"
           "                   [BAND_ROWS[:RENDER_ROWS] [FORMAT]]\n"
           "       bench quality SCENE.mls WxH\n");
@@ -239,7 +239,7 @@ int usage() {
 
 // A textured scene compiled in a variant: `plain` without texels (every texture draws its material
 // colour: the untextured baseline of a textured frame), `nearest` or `bilinear` with every sampler's
-// filter set so. An empty path is the banded scene.
+// filter set so, `mips` with every texture's mip levels. An empty path is the banded scene.
 ml::CompileResult compile_variant(const std::string& variant, const std::string& path) {
   ml::SceneMesh mesh;
   if (path.empty()) {
@@ -255,6 +255,7 @@ ml::CompileResult compile_variant(const std::string& variant, const std::string&
   }
   ml::CompileOptions options;
   if (variant == "plain") options.texture_format = ml::TextureFormatChoice::None;
+  if (variant == "mips") options.texture_mips = ml::TextureMipChoice::On;
   return ml::compile_mesh(mesh, options);
 }
 
@@ -270,7 +271,8 @@ int prepare(const std::string& what, const std::string& out) {
   else if (kind == "banded-plain") result = compile_variant("plain", "");
   else if (kind == "banded-nearest") result = compile_variant("nearest", "");
   else if (kind == "banded-bilinear") result = compile_variant("bilinear", "");
-  else if (kind == "plain" || kind == "nearest" || kind == "bilinear") result = compile_variant(kind, arg);
+  else if (kind == "plain" || kind == "nearest" || kind == "bilinear" || kind == "mips")
+    result = compile_variant(kind, arg);
   else result = ml::compile_gltf_file(what);
   if (!result.ok) {
     fprintf(stderr, "bench: %s\n", result.error.c_str());

@@ -471,6 +471,8 @@ class Importer {
         sampler.wrap_s = wrap_mode(gl.wrapS);
         sampler.wrap_t = wrap_mode(gl.wrapT);
         if (gl.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST) sampler.filter = TextureFilter::Nearest;
+        sampler.mipmaps = gl.minFilter >= TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST &&
+                          gl.minFilter <= TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
       }
       mesh_.texture_samplers.push_back(sampler);
     }

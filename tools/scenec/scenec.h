@@ -120,6 +120,7 @@ struct MeshImage {
 struct MeshSampler {
   TextureWrap wrap_s = TextureWrap::Repeat, wrap_t = TextureWrap::Repeat;
   TextureFilter filter = TextureFilter::Bilinear;
+  bool mipmaps = false;  // glTF minFilter *_MIPMAP_*: the model asks for mip levels
 };
 
 struct SceneMesh {
@@ -142,10 +143,18 @@ enum class TextureFormatChoice : uint8_t {
   None,      // no texels: every material in its base colour (for a build without textures, ML_TEXTURES=0)
 };
 
+// Which textures get mip levels (docs/textures.md).
+enum class TextureMipChoice : uint8_t {
+  Auto,  // those whose glTF sampler asks for them (minFilter *_MIPMAP_*)
+  On,    // all
+  Off,   // none
+};
+
 struct CompileOptions {
   bool build_bsp = true;
   TextureFormatChoice texture_format = TextureFormatChoice::Auto;
   int texture_max_size = 256;         // longest texture side after resampling, a power of two <= 1024
+  TextureMipChoice texture_mips = TextureMipChoice::Auto;
   // BSP plane choice (tools/scenec/bsp.cpp). Defaults measured on the procedural scenes and
   // 2CylinderEngine: lower split ratios cost depth and build time.
   uint32_t bsp_seed = 1;              // plane sampling is deterministic for a given seed
@@ -221,8 +230,9 @@ struct EncodedTexture {
   TextureTexels info{};
   std::vector<uint8_t> bytes;
 };
-// Resamples an RGBA8 image to power-of-two sides of at most options.texture_max_size and encodes it.
-// An empty image gives format None.
+// Resamples an RGBA8 image to power-of-two sides of at most options.texture_max_size and encodes it,
+// with its mip levels down to 1 x 1 when options.texture_mips and the sampler ask for them. An empty
+// image gives format None.
 EncodedTexture encode_texture(const MeshImage& image, const MeshSampler& sampler, const CompileOptions& options);
 
 // ---- procedural scenes -------------------------------------------------------------------------------

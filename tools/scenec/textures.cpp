@@ -126,6 +126,71 @@ int nearest_index(const std::vector<uint16_t>& palette, const Rgb& c) {
 
 int luma(const Rgb& c) { return (77 * c.r + 150 * c.g + 29 * c.b + 128) >> 8; }
 
+// The next mip level of w x h texels: each texel the rounded mean of the (up to) 2 x 2 it covers.
+std::vector<Rgb> half_level(const std::vector<Rgb>& texels, int w, int h) {
+  const int hw = std::max(1, w / 2), hh = std::max(1, h / 2), kx = w > 1 ? 2 : 1, ky = h > 1 ? 2 : 1;
+  std::vector<Rgb> out(size_t(hw) * size_t(hh));
+  for (int y = 0; y < hh; ++y)
+    for (int x = 0; x < hw; ++x) {
+      int sum[3] = {0, 0, 0};
+      for (int j = 0; j < ky; ++j)
+        for (int i = 0; i < kx; ++i) {
+          const Rgb& c = texels[size_t(y * ky + j) * size_t(w) + size_t(x * kx + i)];
+          sum[0] += c.r, sum[1] += c.g, sum[2] += c.b;
+        }
+      const int n = kx * ky;
+      out[size_t(y) * size_t(hw) + size_t(x)] = Rgb{(sum[0] + n / 2) / n, (sum[1] + n / 2) / n, (sum[2] + n / 2) / n};
+    }
+  return out;
+}
+
+// A palette8 texture's palette: the median cut of its colours (exact for at most 256); with mip
+// levels, whose means are colours of their own, the texture's colours and then as many more entries
+// as are left cut from the levels' colours (or, past 256 colours, one cut of them all, the levels'
+// weighted by their texel counts as the texture's are).
+std::vector<uint16_t> level_palette(const std::map<uint16_t, long>& histogram, const std::vector<std::vector<Rgb>>& levels) {
+  if (levels.empty() || histogram.size() > 256) {
+    std::map<uint16_t, long> all = histogram;
+    for (const auto& level : levels)
+      for (const Rgb& c : level) ++all[to_565(c)];
+    return median_cut(all, 256);
+  }
+  std::vector<uint16_t> palette = median_cut(histogram, 256);  // the texture's own colours, exactly
+  std::map<uint16_t, long> extra;
+  for (const auto& level : levels)
+    for (const Rgb& c : level)
+      if (!histogram.count(to_565(c))) ++extra[to_565(c)];
+  if (!extra.empty() && palette.size() < 256)
+    for (uint16_t p : median_cut(extra, 256 - palette.size())) palette.push_back(p);
+  return palette;
+}
+
+// One level's bytes in the texture's format (scene/blob_format.h): palette8 with the texture's
+// palette (each colour's nearest entry, kept in `index`).
+void encode_level(const std::vector<Rgb>& texels, int w, int h, TexelFormat format, const std::vector<uint16_t>& palette,
+                  std::map<uint16_t, int>* index, std::vector<uint8_t>* out) {
+  if (format == TexelFormat::Rgb565) {
+    for (const Rgb& c : texels) put16(out, to_565(c));
+  } else if (format == TexelFormat::Palette8) {
+    for (uint16_t p : palette) put16(out, p);
+    for (const Rgb& c : texels) {
+      const uint16_t key = to_565(c);
+      auto it = index->find(key);
+      if (it == index->end()) it = index->emplace(key, nearest_index(palette, from_565(key))).first;
+      out->push_back(uint8_t(it->second));
+    }
+  } else {
+    const int row = (w + 1) / 2;
+    const size_t start = out->size();
+    out->resize(start + size_t(row) * size_t(h), 0);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const int g = (luma(texels[size_t(y) * size_t(w) + size_t(x)]) * 15 + 127) / 255;
+        (*out)[start + size_t(y) * size_t(row) + size_t(x / 2)] |= uint8_t((x & 1) ? g << 4 : g);
+      }
+  }
+}
+
 }  // namespace
 
 EncodedTexture encode_texture(const MeshImage& image, const MeshSampler& sampler, const CompileOptions& options) {
@@ -162,24 +227,24 @@ EncodedTexture encode_texture(const MeshImage& image, const MeshSampler& sampler
   out.info.wrap_s = uint8_t(sampler.wrap_s);
   out.info.wrap_t = uint8_t(sampler.wrap_t);
   out.info.filter = uint8_t(sampler.filter);
-  if (format == TexelFormat::Rgb565) {
-    for (const Rgb& c : texels) put16(&out.bytes, to_565(c));
-  } else if (format == TexelFormat::Palette8) {
-    const std::vector<uint16_t> palette = median_cut(histogram, 256);
-    for (uint16_t p : palette) put16(&out.bytes, p);
-    std::map<uint16_t, int> index;  // each distinct colour's nearest palette entry
-    for (const auto& h : histogram) index[h.first] = nearest_index(palette, from_565(h.first));
-    for (const Rgb& c : texels) out.bytes.push_back(uint8_t(index[to_565(c)]));
+  // The mip levels' texels, when stored: from the resampled texels, before they take the format.
+  const bool mips = options.texture_mips == TextureMipChoice::On ||
+                    (options.texture_mips == TextureMipChoice::Auto && sampler.mipmaps);
+  std::vector<std::vector<Rgb>> levels;
+  for (uint32_t l = 1; mips && l <= texture_max_levels(uint32_t(w), uint32_t(h)); ++l)
+    levels.push_back(half_level(l == 1 ? texels : levels.back(), int(level_side(uint32_t(w), l - 1)),
+                                int(level_side(uint32_t(h), l - 1))));
+  std::vector<uint16_t> palette;
+  if (format == TexelFormat::Palette8) {
+    palette = level_palette(histogram, levels);
     out.info.palette_size = uint16_t(palette.size());
-  } else {
-    const int row = (w + 1) / 2;
-    out.bytes.assign(size_t(row) * size_t(h), 0);
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const int g = (luma(texels[size_t(y) * size_t(w) + size_t(x)]) * 15 + 127) / 255;
-        out.bytes[size_t(y) * size_t(row) + size_t(x / 2)] |= uint8_t((x & 1) ? g << 4 : g);
-      }
   }
+  std::map<uint16_t, int> index;  // each distinct colour's nearest palette entry
+  encode_level(texels, w, h, format, palette, &index, &out.bytes);
+  for (uint32_t l = 1; l <= levels.size(); ++l)
+    encode_level(levels[l - 1], int(level_side(uint32_t(w), l)), int(level_side(uint32_t(h), l)), format, palette,
+                 &index, &out.bytes);
+  out.info.levels = uint8_t(levels.size());
   out.info.bytes = uint32_t(out.bytes.size());
   return out;
 }
