@@ -190,8 +190,10 @@ class KeptSampling {
   // texels t and bytes of the planes' mip level (texture_level_texels; bytes from TexturePager::get).
   const TextureSampling& for_texture(TexturePager& pager, const TextureTexels& t, uint32_t texture,
                                      const uint8_t* bytes, TexturePlanes& planes, Pixel colour) {
-    if (texture != texture_ || bytes != sampling_.bytes || pager.lut_generation() != generation_ ||
-        !pager.white_lut_ready(texture))
+    // (The same bytes may hold another mip level of the texture after the pager moved it: the sides
+    // tell the levels apart.)
+    if (texture != texture_ || bytes != sampling_.bytes || t.width != texels_.width || t.height != texels_.height ||
+        pager.lut_generation() != generation_ || !pager.white_lut_ready(texture))
       look_up(pager, t, texture, bytes, planes, colour);
     sampling_.planes = &planes;
     sampling_.colour = colour;

@@ -11,6 +11,7 @@
 #include "tests/scene/scene_test_util.h"
 #include "tests/texture/texture_test_util.h"
 #include "texture/mapping.h"
+#include "texture/pager.h"
 #include "tools/scenec/scenec.h"
 
 namespace {
@@ -168,6 +169,33 @@ TEST(TextureMips, LevelTexelsReadAsATextureOfTheirOwn) {
     EXPECT_EQ(next, ml::texture_chain_bytes(format, 64, 8, t.palette_size, t.levels));
   }
 }
+
+// Small triangles' sampling is kept from one to the next by texture and bytes (64-bit hosts); after
+// the pager moves a texture, the same bytes may hold another of its levels, whose sides must not be
+// the kept ones'.
+#if UINTPTR_MAX > 0xFFFFFFFFu
+TEST(TextureMips, KeptSamplingTellsLevelsAtTheSameBytesApart) {
+  const mlhost::LoadedScene& s = textest::load("mips:builtin:banded");
+  ASSERT_TRUE(s.scene.texture_texels) << s.name;
+  std::vector<uint8_t> memory(ml::TexturePager::arena_bytes(s.scene, ml::kTexturePoolAll));
+  ml::Arena arena(memory.data(), memory.size());
+  ml::TexturePager pager;
+  ml::Stats stats;
+  ASSERT_TRUE(pager.begin(s.scene, nullptr, ml::kTexturePoolAll, arena, &stats).ok());
+  pager.finish_plan();
+  const uint8_t* bytes = pager.get(0);
+  ASSERT_NE(bytes, nullptr);
+  uint32_t offset;
+  const ml::TextureTexels one = ml::texture_level_texels(s.scene.texture_texels[0], 1, &offset);
+  const ml::TextureTexels two = ml::texture_level_texels(s.scene.texture_texels[0], 2, &offset);
+  ml::TexturePlanes planes{};
+  planes.exact = planes.boxed = true;
+  ml::KeptSampling kept;
+  EXPECT_EQ(kept.for_texture(pager, one, 0, bytes, planes, 0xFFFFFF).texture->width, one.width);
+  EXPECT_EQ(kept.for_texture(pager, two, 0, bytes, planes, 0xFFFFFF).texture->width, two.width);
+  EXPECT_EQ(kept.for_texture(pager, two, 0, bytes, planes, 0xFFFFFF).texture->height, two.height);
+}
+#endif
 
 // ---- the reader ----------------------------------------------------------------------------------
 
