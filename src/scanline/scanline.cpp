@@ -632,8 +632,7 @@ struct Renderer {
   TexturePager pager;
   uint32_t* tex_of = nullptr;
   TexSlot* tex_slots = nullptr;
-  TextureTexels level_texels_{};  // look_up_level's: the texels of mip level level_ of level_texture_
-  uint32_t level_offset_ = 0, level_texture_ = kNone, level_ = 0;
+  TextureLevels levels;  // the mip levels sampled
   SlotLut* tex_lut = nullptr;
   static constexpr uint32_t kTexReady = 0x80000000u;
   static constexpr uint32_t kTexturedChunk = 64;  // samples a supersampled textured run makes at once
@@ -912,27 +911,9 @@ struct Renderer {
 #else
     (void)small, (void)y;
 #endif
-    const uint8_t* bytes = pager.get(texture);
-    return level == 0 || !bytes ? bytes : level_bytes(texture, level, bytes);
+    return levels.bytes(*scene, texture, level, pager.get(texture));
   }
-  [[gnu::noinline]] const uint8_t* level_bytes(uint32_t texture, uint32_t level, const uint8_t* bytes) {
-    look_up_level(texture, level);
-    return bytes + level_offset_;
-  }
-  // The texels of the texture's mip level `level` (texture_level_texels; level 0: the scene's), valid
-  // until one of another texture or level is asked for.
-  const TextureTexels& level_texels(uint32_t texture, uint32_t level) {
-    if (level == 0) return scene->texture_texels[texture];
-    look_up_level(texture, level);
-    return level_texels_;
-  }
-  // level_texels_ and level_offset_ for (texture, level > 0), kept for the last asked: a frame's runs
-  // ask for a few, again and again.
-  [[gnu::noinline]] void look_up_level(uint32_t texture, uint32_t level) {
-    if (texture == level_texture_ && level == level_) return;
-    level_texels_ = texture_level_texels(scene->texture_texels[texture], level, &level_offset_);
-    level_texture_ = texture, level_ = level;
-  }
+  const TextureTexels& level_texels(uint32_t texture, uint32_t level) { return levels.texels(*scene, texture, level); }
 #if UINTPTR_MAX > 0xFFFFFFFFu
   // texture_run's answer for a span of a small triangle of the waiting spans' texture, its planes
   // and colour made (the common case: texture_run took one of its spans before), without its checks.

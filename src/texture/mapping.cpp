@@ -514,4 +514,10 @@ void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, 
   out->level = uint8_t(level);
 }
 
+void TextureLevels::look_up(const Scene& scene, uint32_t texture, uint32_t level) {
+  if (texture == texture_ && level == level_) return;
+  texels_ = texture_level_texels(scene.texture_texels[texture], level, &offset_);
+  texture_ = texture, level_ = level;
+}
+
 }  // namespace ml

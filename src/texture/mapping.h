@@ -324,6 +324,30 @@ class BatchTextures {
 #endif
 };
 
+// A texture's mip level as both renderers sample it: its texels (texture_level_texels; level 0: the
+// scene's own) and its bytes within the texture's, the last (texture, level > 0) asked for kept: a
+// frame's runs and blocks ask for a few, again and again. One scene's (the first asked about).
+class TextureLevels {
+ public:
+  // Valid until another texture's or level's are asked for.
+  const TextureTexels& texels(const Scene& scene, uint32_t texture, uint32_t level) {
+    if (level == 0) return scene.texture_texels[texture];
+    look_up(scene, texture, level);
+    return texels_;
+  }
+  // The level's bytes, given the texture's (TexturePager::get's; null stays null).
+  const uint8_t* bytes(const Scene& scene, uint32_t texture, uint32_t level, const uint8_t* texture_bytes) {
+    if (level == 0 || !texture_bytes) return texture_bytes;
+    look_up(scene, texture, level);
+    return texture_bytes + offset_;
+  }
+
+ private:
+  void look_up(const Scene& scene, uint32_t texture, uint32_t level);  // out of line: rare, and flash
+  TextureTexels texels_{};
+  uint32_t offset_ = 0, texture_ = kNone, level_ = 0;
+};
+
 // The mip level a triangle samples of texture t (0 when t has none, or when the view clips the
 // triangle): the level whose texels come nearest one a sample, from the triangle's area in texels
 // over its area in samples (ratio r): the greatest L <= t.levels with 4^L <= 2 r, that is L =

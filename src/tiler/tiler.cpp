@@ -388,17 +388,11 @@ class BandWriter : public CoverageWriter {
     return texture_planes_;
   }
 
-  // The texels the piece samples, its planes' mip level (texture_level_texels), with *bytes (the
-  // texture's, from the pager) moved to the level's (once its planes are ready).
+  // The texels the piece samples, its planes' mip level (TextureLevels), with *bytes (the texture's,
+  // from the pager) moved to the level's (once its planes are ready).
   const TextureTexels& level_texels(const uint8_t** bytes) {
-    const TextureTexels& t = scene_->texture_texels[texture_];
-    return texture_planes_.level == 0 ? t : level_copy(t, bytes);
-  }
-  [[gnu::noinline]] const TextureTexels& level_copy(const TextureTexels& t, const uint8_t** bytes) {
-    uint32_t offset;
-    level_copy_ = texture_level_texels(t, texture_planes_.level, &offset);
-    *bytes += offset;
-    return level_copy_;
+    *bytes = levels_.bytes(*scene_, texture_, texture_planes_.level, *bytes);
+    return levels_.texels(*scene_, texture_, texture_planes_.level);
   }
 
   // Whether the piece's triangle may be drawn again, so that its planes are worth keeping (PlaneCache,
@@ -647,7 +641,7 @@ class BandWriter : public CoverageWriter {
   TexturePager* pager_ = nullptr;
   const View* view_ = nullptr;
   uint32_t texture_ = kNone;
-  TextureTexels level_copy_{};  // level_copy's answer
+  TextureLevels levels_;  // the mip levels sampled
   bool texture_ready_ = false;
   TexturePlanes texture_planes_{};
   TextureSegment* segment_rows_ = nullptr;

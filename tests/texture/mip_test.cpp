@@ -170,6 +170,36 @@ TEST(TextureMips, LevelTexelsReadAsATextureOfTheirOwn) {
   }
 }
 
+// TextureLevels keeps the last level asked for: asked in turn about textures and levels, each answer is
+// texture_level_texels' (sides, offset and bytes), the bytes moved by its offset; level 0 is the scene's own.
+TEST(TextureMips, LevelsKeptAnswerForTheTextureAndLevelAsked) {
+  const mlhost::LoadedScene& s = textest::load("mips:builtin:banded");
+  ASSERT_TRUE(s.scene.texture_texels) << s.name;
+  ASSERT_GE(s.scene.texture_texels_count, 2u);
+  ASSERT_GE(s.scene.texture_texels[0].levels, 2u);
+  ASSERT_GE(s.scene.texture_texels[1].levels, 2u);
+  static const uint8_t base[1] = {};
+  ml::TextureLevels levels;
+  const uint32_t asked[][2] = {{0, 1}, {1, 1}, {1, 2}, {0, 2}, {0, 0}, {0, 2}, {0, 1}, {1, 1}};
+  for (const auto& a : asked) {
+    const uint32_t texture = a[0], level = a[1];
+    uint32_t offset;
+    const ml::TextureTexels want = ml::texture_level_texels(s.scene.texture_texels[texture], level, &offset);
+    const uint8_t* bytes = levels.bytes(s.scene, texture, level, base);
+    const ml::TextureTexels& got = levels.texels(s.scene, texture, level);
+    EXPECT_EQ(bytes, base + offset) << texture << " " << level;
+    EXPECT_EQ(got.width, want.width) << texture << " " << level;
+    EXPECT_EQ(got.height, want.height) << texture << " " << level;
+    EXPECT_EQ(got.offset, want.offset) << texture << " " << level;
+    if (level == 0) {  // the scene's own, its bytes those of the whole chain
+      EXPECT_EQ(&got, &s.scene.texture_texels[texture]);
+    } else {
+      EXPECT_EQ(got.bytes, want.bytes) << texture << " " << level;
+    }
+  }
+  EXPECT_EQ(levels.bytes(s.scene, 0, 1, nullptr), nullptr);  // a texture the pager could not load
+}
+
 // Small triangles' sampling is kept from one to the next by texture and bytes (64-bit hosts); after
 // the pager moves a texture, the same bytes may hold another of its levels, whose sides must not be
 // the kept ones'.
@@ -177,12 +207,9 @@ TEST(TextureMips, LevelTexelsReadAsATextureOfTheirOwn) {
 TEST(TextureMips, KeptSamplingTellsLevelsAtTheSameBytesApart) {
   const mlhost::LoadedScene& s = textest::load("mips:builtin:banded");
   ASSERT_TRUE(s.scene.texture_texels) << s.name;
-  std::vector<uint8_t> memory(ml::TexturePager::arena_bytes(s.scene, ml::kTexturePoolAll));
-  ml::Arena arena(memory.data(), memory.size());
-  ml::TexturePager pager;
-  ml::Stats stats;
-  ASSERT_TRUE(pager.begin(s.scene, nullptr, ml::kTexturePoolAll, arena, &stats).ok());
-  pager.finish_plan();
+  textest::WholePoolPager whole(s.scene);
+  ASSERT_TRUE(whole.began);
+  ml::TexturePager& pager = whole.pager;
   const uint8_t* bytes = pager.get(0);
   ASSERT_NE(bytes, nullptr);
   uint32_t offset;

@@ -866,12 +866,9 @@ TEST(TexturePager, TilerEvictsByItsBspOrder) {
 TEST(TexturePager, WhiteTableMemoFollowsEvictions) {
   const mlhost::LoadedScene& s = load("builtin:banded");
   ASSERT_GE(s.scene.texture_texels_count, 2u);
-  std::vector<uint8_t> memory(ml::TexturePager::arena_bytes(s.scene, ml::kTexturePoolAll));
-  ml::Arena arena(memory.data(), memory.size());
-  ml::TexturePager pager;
-  ml::Stats stats;
-  ASSERT_TRUE(pager.begin(s.scene, nullptr, ml::kTexturePoolAll, arena, &stats).ok());
-  pager.finish_plan();
+  textest::WholePoolPager whole(s.scene);
+  ASSERT_TRUE(whole.began);
+  ml::TexturePager& pager = whole.pager;
   const uint8_t* bytes[2] = {pager.get(0), pager.get(1)};
   ASSERT_TRUE(bytes[0] && bytes[1]);
   // The entries a table of texture t holds (the rest of its slot is never read).

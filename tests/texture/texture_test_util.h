@@ -107,6 +107,21 @@ inline ml::RenderOptions options(ml::RendererKind r, ml::ShadingMode s = ml::Sha
   return o;
 }
 
+// A pager over its own arena, begun with the whole pool and its plan finished (began: whether begin
+// succeeded): get() loads any texture, and nothing is evicted.
+struct WholePoolPager {
+  explicit WholePoolPager(const ml::Scene& scene)
+      : memory(ml::TexturePager::arena_bytes(scene, ml::kTexturePoolAll)), arena(memory.data(), memory.size()) {
+    began = pager.begin(scene, nullptr, ml::kTexturePoolAll, arena, &stats).ok();
+    if (began) pager.finish_plan();
+  }
+  std::vector<uint8_t> memory;
+  ml::Arena arena;
+  ml::TexturePager pager;
+  ml::Stats stats;
+  bool began = false;
+};
+
 // A TextureSource over the blob that fails its Nth read (1-based), counting every read.
 class FailingSource : public ml::TextureSource {
  public:
