@@ -421,24 +421,24 @@ ML_HOST_INLINE inline bool small_box(const View& view, const ViewTriangle& viewe
   return x1 - x0 < kTextureExactSide && y1 - y0 < kTextureExactSide;
 }
 
-// triangle_texture_planes once the triangle's view and coordinates are at hand, for level 0 of t
-// (the caller picks the level).
+// triangle_texture_planes once the triangle's view and coordinates are at hand, for texels of these
+// sides (a texture's or one of its mip levels': the caller picks the level) and filter.
 ML_HOST_INLINE inline void planes_of_view(const View& view, const ViewTriangle& viewed, const int32_t uv[3][2],
-                                          const TextureTexels& t, int32_t den, int32_t ox, int32_t oy,
-                                          TexturePlanes* out) {
-  const int error_bits = t.filter == uint8_t(TextureFilter::Bilinear) ? kTextureAffineErrorBitsBilinear
-                                                                      : kTextureAffineErrorBitsNearest;
+                                          uint32_t width, uint32_t height, uint8_t filter, int32_t den, int32_t ox,
+                                          int32_t oy, TexturePlanes* out) {
+  const int error_bits = filter == uint8_t(TextureFilter::Bilinear) ? kTextureAffineErrorBitsBilinear
+                                                                    : kTextureAffineErrorBitsNearest;
   intptr_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
 #if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
   // The box first: a small triangle's planes and sums in one.
   const bool exact = viewed.unclipped && small_box(view, viewed, den, ox, oy, x0, y0, x1, y1);
-  if (exact && boxed_planes(view, viewed.p, uv, den, ox, oy, t.width, t.height, error_bits, int32_t(x0), int32_t(y0),
+  if (exact && boxed_planes(view, viewed.p, uv, den, ox, oy, width, height, error_bits, int32_t(x0), int32_t(y0),
                             int32_t(x1), int32_t(y1), out))
     return;
-  planes_from_view(view, viewed.p, uv, den, ox, oy, t.width, t.height, error_bits, out);
+  planes_from_view(view, viewed.p, uv, den, ox, oy, width, height, error_bits, out);
   out->exact = exact;
 #else
-  planes_from_view(view, viewed.p, uv, den, ox, oy, t.width, t.height, error_bits, out);
+  planes_from_view(view, viewed.p, uv, den, ox, oy, width, height, error_bits, out);
   if (!viewed.unclipped) return;
   out->exact = small_box(view, viewed, den, ox, oy, x0, y0, x1, y1);
 #endif
@@ -450,7 +450,7 @@ ML_HOST_INLINE inline void planes_of_view(const View& view, const ViewTriangle& 
 #if UINTPTR_MAX > 0xFFFFFFFFu && !defined(ML_TEXTURE_RUNS_GENERAL_ONLY)
 void view_texture_planes(const View& view, const ViewTriangle& viewed, const int32_t uv[3][2], const TextureTexels& t,
                          int32_t den, int32_t ox, int32_t oy, TexturePlanes* out) {
-  planes_of_view(view, viewed, uv, t, den, ox, oy, out);
+  planes_of_view(view, viewed, uv, t.width, t.height, t.filter, den, ox, oy, out);
 }
 #endif
 
@@ -502,15 +502,13 @@ void triangle_texture_planes(const Scene& scene, const View& view, uint32_t id, 
   const Triangle tri = triangle_at(scene, id);
   int32_t uv[3][2] = {};  // a scene without coordinates: all 0, as vertex_uv gives
   if (scene.uvs) ML_HOST_UNROLL for (int i = 0; i < 3; ++i) vertex_uv(scene, tri.v[i], uv[i]);  // (one test of them)
-  const TextureTexels* t = &scene.texture_texels[texture];
-  const uint32_t level = t->levels ? texture_level(*t, *viewed, uv, den) : 0;
-  TextureTexels level_texels;
-  if (level != 0) {
-    uint32_t offset;
-    level_texels = texture_level_texels(*t, level, &offset);
-    t = &level_texels;
+  const TextureTexels& t = scene.texture_texels[texture];
+  uint32_t level = 0, width = t.width, height = t.height;  // the sides of the level's texels: all the planes read
+  if (t.levels) {
+    level = texture_level(t, *viewed, uv, den);
+    width = level_side(width, level), height = level_side(height, level);
   }
-  planes_of_view(view, *viewed, uv, *t, den, ox, oy, out);
+  planes_of_view(view, *viewed, uv, width, height, t.filter, den, ox, oy, out);
   out->level = uint8_t(level);
 }
 
