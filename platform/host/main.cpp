@@ -290,6 +290,26 @@ ml::Scene require_scene(const std::string& path, mlhost::LoadedScene* loaded,
   return loaded->scene;
 }
 
+// The tiler draws alpha BLEND materials opaque (docs/tiler.md), where the scanline renderer blends
+// them: one note on stderr naming the translucent ones (0 < alpha < 1; alpha 0 is left out by both),
+// so that a picture unlike the scanline renderer's says why.
+void note_opaque_blends(const ml::Scene& scene, ml::RendererKind renderer) {
+  if (renderer != ml::RendererKind::Tiler) return;
+  std::string names;
+  uint32_t count = 0;
+  for (uint32_t m = 0; m < scene.material_count; ++m) {
+    const ml::Material& material = scene.materials[m];
+    const uint8_t alpha = material.base_color[3];
+    if (material.alpha_mode != uint8_t(ml::AlphaMode::Blend) || alpha == 0 || alpha == 255) continue;
+    names += (count++ ? ", " : "") + std::to_string(m);
+  }
+  if (count == 0) return;
+  fprintf(stderr,
+          "maskline: note: material%s %s: alphaMode BLEND, translucent: the tiler draws %s opaque "
+          "(--renderer scanline blends %s)\n",
+          count == 1 ? "" : "s", names.c_str(), count == 1 ? "it" : "them", count == 1 ? "it" : "them");
+}
+
 // ---- camera ---------------------------------------------------------------------------------------
 
 struct CameraArgs {
@@ -704,6 +724,7 @@ int cmd_render(int argc, char** argv) {
 
   ml::Stats stats;
   const bool colour_pass = out_png || work_png || want_stats || !ids_png;
+  if (colour_pass) note_opaque_blends(scene, r.opt.renderer);
   if (colour_pass) {
     std::vector<uint32_t> work;
     ml::WorkImage work_image;
@@ -837,6 +858,7 @@ int cmd_show(int argc, char** argv) {
   const ml::Scene scene = require_scene(a.positional.empty() ? "" : a.positional[0], &loaded);
   const ml::Camera base = make_camera(scene, r.camera, r.width, r.height);
   const auto texture_file = open_texture_file(r, loaded);
+  note_opaque_blends(scene, r.opt.renderer);
   double seconds = 0;
   FrameArena frame_arena;
   for (int f = 0; f < frames; ++f) {

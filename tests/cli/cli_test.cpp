@@ -251,6 +251,45 @@ TEST_F(CliTemp, ScanlineRendersWithAntialiasingAndLines) {
   }
 }
 
+// A translucent alpha BLEND material (0 < alpha < 1) is drawn opaque by the tiler and blended by the
+// scanline renderer: render and show with the tiler name it in one note on stderr; the scanline
+// renderer, an opaque BLEND (alpha 1) and an OPAQUE material of alpha 0.5 get none.
+TEST_F(CliTemp, TilerNotesTranslucentBlendsItDrawsOpaque) {
+  const std::string b64 =  // two triangles: 0,0,0 1,0,0 0,1,0 and the same at z = -1
+      "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIC/AACAPwAAAAAAAIC/AAAAAAAAgD8AAIC/";
+  const std::string gltf =
+      "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":72,\"uri\":\"data:application/"
+      "octet-stream;base64," + b64 + "\"}],\"bufferViews\":[{\"buffer\":0,\"byteLength\":72}],"
+      "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},"
+      "{\"bufferView\":0,\"byteOffset\":36,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"}],"
+      "\"materials\":[{\"pbrMetallicRoughness\":{\"baseColorFactor\":[1,1,1,1]},\"alphaMode\":\"BLEND\"},"
+      "{\"pbrMetallicRoughness\":{\"baseColorFactor\":[1,0,0,0.5]},\"alphaMode\":\"BLEND\"},"
+      "{\"pbrMetallicRoughness\":{\"baseColorFactor\":[0,0,1,0.5]}}],"
+      "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"material\":1},"
+      "{\"attributes\":{\"POSITION\":1},\"material\":0},{\"attributes\":{\"POSITION\":1},\"material\":2}]}],"
+      "\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}]}";
+  clitest::write_bytes(path("blend.gltf"), std::vector<unsigned char>(gltf.begin(), gltf.end()));
+  const std::string note =
+      "maskline: note: material 1: alphaMode BLEND, translucent: the tiler draws it opaque (--renderer scanline "
+      "blends it)";
+  for (const std::string renderer : {"tiler", "scanline"}) {
+    for (const std::string command : {"render", "show"}) {
+      std::vector<std::string> args{command, path("blend.gltf"), "--renderer", renderer, "-o", path("b.png")};
+      if (command == "show") args.insert(args.end(), {"--display", "emu:ili9341"});  // the panel's size
+      else args.insert(args.end(), {"--size", "40x30"});
+      const RunResult r = run_cli(args);
+      ASSERT_EQ(r.exit_code, 0) << command << " " << renderer << ": " << r.describe();
+      const std::vector<std::string> lines = r.err_lines_besides_warnings();
+      if (renderer == "tiler") {
+        ASSERT_EQ(lines.size(), 1u) << command << ": " << r.describe();
+        EXPECT_EQ(lines[0], note) << command;
+      } else {
+        EXPECT_TRUE(lines.empty()) << command << ": " << r.describe();
+      }
+    }
+  }
+}
+
 // The tiler's cosine-hump filter (on jittered samples): every pixel once, a different picture from the
 // box filter's.
 TEST_F(CliTemp, TilerCosineFilterRendersEveryPixelOnce) {
