@@ -290,6 +290,11 @@ ml::Scene require_scene(const std::string& path, mlhost::LoadedScene* loaded,
   return loaded->scene;
 }
 
+// Whether a material is an alpha BLEND the scanline renderer blends and the tiler draws opaque.
+bool translucent_blend(const ml::Material& m) {
+  return m.alpha_mode == uint8_t(ml::AlphaMode::Blend) && m.base_color[3] != 0 && m.base_color[3] != 255;
+}
+
 // The tiler draws alpha BLEND materials opaque (docs/tiler.md), where the scanline renderer blends
 // them: one note on stderr naming the translucent ones (0 < alpha < 1; alpha 0 is left out by both),
 // so that a picture unlike the scanline renderer's says why.
@@ -297,12 +302,8 @@ void note_opaque_blends(const ml::Scene& scene, ml::RendererKind renderer) {
   if (renderer != ml::RendererKind::Tiler) return;
   std::string names;
   uint32_t count = 0;
-  for (uint32_t m = 0; m < scene.material_count; ++m) {
-    const ml::Material& material = scene.materials[m];
-    const uint8_t alpha = material.base_color[3];
-    if (material.alpha_mode != uint8_t(ml::AlphaMode::Blend) || alpha == 0 || alpha == 255) continue;
-    names += (count++ ? ", " : "") + std::to_string(m);
-  }
+  for (uint32_t m = 0; m < scene.material_count; ++m)
+    if (translucent_blend(scene.materials[m])) names += (count++ ? ", " : "") + std::to_string(m);
   if (count == 0) return;
   fprintf(stderr,
           "maskline: note: material%s %s: alphaMode BLEND, translucent: the tiler draws %s opaque "
@@ -421,6 +422,25 @@ const char* texel_format_name(uint8_t f) {
   }
 }
 
+// One line per material: its colour, alpha mode and what the renderers make of it, sides, texture.
+void print_materials(const ml::Scene& scene) {
+  for (uint32_t i = 0; i < scene.material_count; ++i) {
+    const ml::Material& m = scene.materials[i];
+    printf("material %u: base colour %02x%02x%02x", i, m.base_color[0], m.base_color[1], m.base_color[2]);
+    if (m.alpha_mode == uint8_t(ml::AlphaMode::Mask))
+      printf(", alpha %u/255, MASK cutoff %u/255", m.base_color[3], m.alpha_cutoff);
+    else if (m.alpha_mode == uint8_t(ml::AlphaMode::Blend))
+      printf(", alpha %u/255, BLEND", m.base_color[3]);
+    else
+      printf(", OPAQUE");
+    if (ml::material_hidden(m)) printf(" (invisible: not drawn)");
+    if (translucent_blend(m)) printf(" (the tiler draws it opaque)");
+    printf(", %s", m.double_sided ? "double-sided" : "single-sided");
+    if (m.texture == ml::kNone) printf(", no texture\n");
+    else printf(", texture %u\n", m.texture);
+  }
+}
+
 // One line per texture, then the pool sizes (texture/pager.h).
 void print_textures(const ml::Scene& scene) {
   static const char* const kWrap[] = {"repeat", "mirrored", "clamp"};
@@ -486,6 +506,7 @@ int cmd_info(int argc, char** argv) {
   for (uint32_t i = 0; scene.bsp_cones && i < scene.bsp_node_count; ++i) cones += scene.bsp_cones[i].spread != ml::kNoCone;
   printf("bsp: %u nodes, %u pieces, split ratio %.4f, depth %u, %u normal cones\n", scene.bsp_node_count,
          scene.bsp_piece_count, split, info.bsp_depth, cones);
+  print_materials(scene);
   print_textures(scene);
   CameraArgs none;
   const ml::Camera base = make_camera(scene, none, width, height);

@@ -253,7 +253,8 @@ TEST_F(CliTemp, ScanlineRendersWithAntialiasingAndLines) {
 
 // A translucent alpha BLEND material (0 < alpha < 1) is drawn opaque by the tiler and blended by the
 // scanline renderer: render and show with the tiler name it in one note on stderr; the scanline
-// renderer, an opaque BLEND (alpha 1) and an OPAQUE material of alpha 0.5 get none.
+// renderer, an opaque BLEND (alpha 1) and an OPAQUE material of alpha 0.5 get none; info says so of
+// each material.
 TEST_F(CliTemp, TilerNotesTranslucentBlendsItDrawsOpaque) {
   const std::string b64 =  // two triangles: 0,0,0 1,0,0 0,1,0 and the same at z = -1
       "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIC/AACAPwAAAAAAAIC/AAAAAAAAgD8AAIC/";
@@ -272,6 +273,12 @@ TEST_F(CliTemp, TilerNotesTranslucentBlendsItDrawsOpaque) {
   const std::string note =
       "maskline: note: material 1: alphaMode BLEND, translucent: the tiler draws it opaque (--renderer scanline "
       "blends it)";
+  const RunResult info = run_cli({"info", path("blend.gltf")});
+  ASSERT_EQ(info.exit_code, 0) << info.describe();
+  EXPECT_EQ(after(info.out, "material 0: "), "base colour ffffff, alpha 255/255, BLEND, single-sided, no texture");
+  EXPECT_EQ(after(info.out, "material 1: "),
+            "base colour ff0000, alpha 128/255, BLEND (the tiler draws it opaque), single-sided, no texture");
+  EXPECT_EQ(after(info.out, "material 2: "), "base colour 0000ff, OPAQUE, single-sided, no texture");
   for (const std::string renderer : {"tiler", "scanline"}) {
     for (const std::string command : {"render", "show"}) {
       std::vector<std::string> args{command, path("blend.gltf"), "--renderer", renderer, "-o", path("b.png")};
