@@ -26,18 +26,45 @@ Light make_light(const View& view) {
   return light;
 }
 
+namespace {
+
+// The face's cross product (counter-clockwise front) scaled by a power of two so that its largest
+// component has 30 bits (|N| >= 2^29: its square root loses at most 2^-29 of it); false when the
+// triangle is degenerate. normalize_q30 gives the same unit vector for it as for the unscaled product
+// (it keeps 21 bits, taken here by the same floors).
+bool face_cross(const Vec3i world[3], Vec3i* out) {
+  // World points lie within ±2^24: differences within ±2^25, products within ±2^50 (32 x 32 bits).
+  const int32_t ax = world[1].x - world[0].x, ay = world[1].y - world[0].y, az = world[1].z - world[0].z;
+  const int32_t bx = world[2].x - world[0].x, by = world[2].y - world[0].y, bz = world[2].z - world[0].z;
+  const auto product = [](int32_t a, int32_t b) { return int64_t(a) * b; };
+  const int64_t n[3] = {product(ay, bz) - product(az, by), product(az, bx) - product(ax, bz),
+                        product(ax, by) - product(ay, bx)};
+  const uint64_t largest = max_of(magnitude(n[0]), max_of(magnitude(n[1]), magnitude(n[2])));
+  if (largest == 0) return false;
+  // floor(c 2^(30 - b)) for b = bit_length(largest) <= 52, up or down, as the high word of
+  // c 2^(62 - b) (below 2^62 in magnitude): one shift, no branch.
+  const int up = 62 - bit_length(largest);
+  const auto scaled = [up](int64_t c) { return int32_t(int64_t(uint64_t(c) << up) >> 32); };
+  *out = Vec3i{scaled(n[0]), scaled(n[1]), scaled(n[2])};
+  return true;
+}
+
+}  // namespace
+
 Vec3i face_normal(const Vec3i world[3]) {
-  const int64_t ax = int64_t(world[1].x) - world[0].x, ay = int64_t(world[1].y) - world[0].y,
-                az = int64_t(world[1].z) - world[0].z;
-  const int64_t bx = int64_t(world[2].x) - world[0].x, by = int64_t(world[2].y) - world[0].y,
-                bz = int64_t(world[2].z) - world[0].z;
-  // World points lie within ±2^24, so each product is below 2^52.
-  int64_t n[3] = {ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx};
-  const int64_t largest = max_of(abs64(n[0]), max_of(abs64(n[1]), abs64(n[2])));
-  const int shift = max_of(0, bit_length(uint64_t(largest)) - 30);
-  Vec3i out{0, 0, 0};
-  normalize_q30(Vec3i{int32_t(n[0] >> shift), int32_t(n[1] >> shift), int32_t(n[2] >> shift)}, &out);
+  Vec3i n, out{0, 0, 0};
+  if (face_cross(world, &n)) normalize_q30(n, &out);
   return out;
+}
+
+int32_t face_lambert_q8(const Light& light, const Vec3i world[3], bool front_facing) {
+  Vec3i n;
+  if (!face_cross(world, &n)) return light.ambient_q8;  // as lambert_q8 of the zero normal
+  const int64_t dot = dot64(n, light.to_light);  // |N| 2^30 cos: |N| < 2^31, so below 2^61
+  if (front_facing ? dot <= 0 : dot >= 0) return light.ambient_q8;
+  const uint64_t length = isqrt64(uint64_t(dot64(n, n)));  // 2^29 .. 2^31
+  const int64_t cosine = div_round(front_facing ? dot : -dot, int64_t(length));  // Q1.30
+  return int32_t(light.ambient_q8 + mul_shift(light.diffuse_q8, cosine, kUnitBits));
 }
 
 int32_t lambert_q8(const Light& light, const Vec3i& normal_q30) {
@@ -69,16 +96,17 @@ void shade_triangle(const Scene& scene, const Light& light, ShadingMode mode, ui
       triangle_world(scene, triangle_id, read);
       world = read;
     }
-    Vec3i normal = face_normal(world);
-    if (!front_facing) normal = negate(normal);  // a double-sided triangle seen from behind
-    out->flat = modulate(material.base_color, lambert_q8(light, normal));
+    out->flat = modulate(material.base_color, face_lambert_q8(light, world, front_facing));
     if (mode == ShadingMode::Gouraud) {
       for (int i = 0; i < 3; ++i) {
         const int16_t* n = vertex_normal(scene, tri.v[i]);
         constexpr int up = kUnitBits - kNormalBits;
         Vec3i vn{int32_t(shift_left(n[0], up)), int32_t(shift_left(n[1], up)), int32_t(shift_left(n[2], up))};
-        if (vn.x == 0 && vn.y == 0 && vn.z == 0) vn = normal;  // mesh without normals
-        else if (!front_facing) vn = negate(vn);
+        if (vn.x == 0 && vn.y == 0 && vn.z == 0) {  // mesh without normals: the face's colour
+          out->vertex[i] = out->flat;
+          continue;
+        }
+        if (!front_facing) vn = negate(vn);  // a double-sided triangle seen from behind
         out->vertex[i] = modulate(material.base_color, lambert_q8(light, vn));
       }
       out->smooth = out->vertex[0] != out->vertex[1] || out->vertex[0] != out->vertex[2];
