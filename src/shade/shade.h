@@ -26,7 +26,7 @@ Vec3i face_normal(const Vec3i world[3]);
 
 // The face's Lambert term (lambert_q8 of its normal, negated when !front_facing: a double-sided
 // triangle seen from behind) as N.L / |N| from the cross product itself: one square root and one
-// division, where the unit normal takes three divisions more. Flat shading's colour, and Gouraud's
+// division, where the unit normal takes a square root and three. Flat shading's colour, and Gouraud's
 // for vertices without normals. Within half a step of the exact value; lambert_q8(face_normal) gives
 // the same value but for about 1 in 100,000 faces, one step further from it (tests/shade).
 int32_t face_lambert_q8(const Light& light, const Vec3i world[3], bool front_facing);
