@@ -1,5 +1,7 @@
 #include "core/fixed.h"
 
+#include "core/build.h"
+
 namespace ml {
 
 // Both roots are built for every target, so the host tests run the boards' too (fixed.h selects one;
@@ -67,7 +69,9 @@ uint64_t isqrt64_newton(uint64_t v) {
   }
 }
 
-bool normalize_q30(const Vec3i& v, Vec3i* out) {
+// Compiled for size: a frame's camera and light take it, not its triangles (flat shading's light
+// comes from the cross product: shade/shade.h face_lambert_q8).
+ML_OPTIMIZE_SIZE bool normalize_q30(const Vec3i& v, Vec3i* out) {
   // Bring the vector to about 2^20 per component so the squared length fits comfortably and
   // isqrt keeps about 20 bits of precision.
   int64_t x = v.x, y = v.y, z = v.z;
