@@ -61,9 +61,10 @@ int32_t face_lambert_q8(const Light& light, const Vec3i world[3], bool front_fac
   Vec3i n;
   if (!face_cross(world, &n)) return light.ambient_q8;  // as lambert_q8 of the zero normal
   const int64_t dot = dot64(n, light.to_light);  // |N| 2^30 cos: |N| < 2^31, so below 2^61
-  if (front_facing ? dot <= 0 : dot >= 0) return light.ambient_q8;
+  const int64_t lit = front_facing ? dot : -dot;  // the side seen
+  if (lit <= 0) return light.ambient_q8;
   const uint64_t length = isqrt64(uint64_t(dot64(n, n)));  // 2^29 .. 2^31
-  const int64_t cosine = div_round(front_facing ? dot : -dot, int64_t(length));  // Q1.30
+  const int64_t cosine = div_round(lit, int64_t(length));  // Q1.30
   return int32_t(light.ambient_q8 + mul_shift(light.diffuse_q8, cosine, kUnitBits));
 }
 
