@@ -657,6 +657,9 @@ struct Renderer {
   uint64_t last_packed = 0;
   uint64_t cur_sum = 0;
   int32_t row_kind = 0;  // 0 interior, 1 top of frame, 2 shared border, 3 bottom of frame
+  // The row is its pixel row's first (keepObj's keys all 0 when it starts). Runs come in sample order
+  // and write only the columns they reach, so right of a run's first column the keys are still 0.
+  bool empty_keys = false;
 
   // --- activation (§3.1, §4.1) ---
   void activate(const YSortEntry& e, int32_t y) {
@@ -1171,17 +1174,25 @@ struct Renderer {
   // surface enters (the column of sample x is x / q, the last one for the frame's right border), then
   // the samples emitted in bulk. The same colours and calls as sample by sample: a column's key is
   // checked before any of its samples, and a commit only overwrites columns the run has left.
-  void single_run_constant(ActiveTri& a, int32_t x0, int32_t x1) {
+  ML_HOST_INLINE void single_run_constant(ActiveTri& a, int32_t x0, int32_t x1) {
     const uint32_t key = surface_key(a);
     ensure_colors(a);
     const int32_t q = s.lat.q, last = s.width - 1;
     const int32_t c1 = min_of(x1 / q, last);
     uint32_t* const surface = keep_surface;
-    uint32_t calls = 0;  // shade(): the colour is a.color[0]
-    // (Unrolled by 2 on hosts: runs are a few columns; by 4 or 8 GCC's remainder code costs more.)
-    ML_HOST_UNROLL_2 for (int32_t c = min_of(x0 / q, last); c <= c1; ++c) {
-      calls += surface[c] != key;
-      surface[c] = key;
+    int32_t c = min_of(x0 / q, last);
+    uint32_t calls = surface[c] != key;  // shade(): the colour is a.color[0]
+    surface[c] = key;
+    if (empty_keys) {
+      // Every column right of the first is still empty (key 0, never a surface's): one call each.
+      calls += uint32_t(c1 - c);
+      fill_pixels(surface, c + 1, c1, key);
+    } else {
+      // (Unrolled by 2 on hosts: runs are a few columns; by 4 or 8 GCC's remainder code costs more.)
+      ML_HOST_UNROLL_2 for (++c; c <= c1; ++c) {
+        calls += surface[c] != key;
+        surface[c] = key;
+      }
     }
     stats->shading_calls += calls;
     emit_run(x0, x1, a.color[0]);
@@ -1287,6 +1298,7 @@ struct Renderer {
     cur_sum = 0;
     if (!s.accumulate) return;
     const int32_t q = s.lat.q;
+    empty_keys = y == 0 || (y - 1) % q == 0;
     if (y == 0) row_kind = 1;
     else if (y == s.lat.ny - 1) row_kind = 3;
     else if (y % q == 0) row_kind = 2;
