@@ -16,3 +16,18 @@ write_doc_section() {
     printf '\n## %s\n\n%s\n' "$heading" "$section" >>"$doc"
   fi
 }
+
+# One row of a targets table: | LABEL | <= GOAL | MEASURED | met, missed or not measured |, for a
+# target that MEASURED must not exceed. Prints the row.
+# Usage: target_row LABEL MEASURED GOAL
+target_row() {
+  local label=$1 measured=${2:-} goal=$3 verdict
+  if [ -z "$measured" ] || [ "$measured" = n/a ]; then
+    verdict="not measured"; measured="—"
+  elif awk -v m="$measured" -v g="$goal" 'BEGIN { exit !(m + 0 <= g + 0) }'; then
+    verdict=met
+  else
+    verdict=missed
+  fi
+  printf '| %s | ≤ %s | %s | %s |\n' "$label" "$goal" "$measured" "$verdict"
+}
