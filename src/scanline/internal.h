@@ -124,6 +124,23 @@ void sample_weights(const ActiveTri& t, const Lattice& lat, int32_t x, int32_t y
 void smooth_run(const ActiveTri& t, const Lattice& lat, int32_t x0, int32_t x1, int32_t y, Pixel* out);
 
 
+// Where a nearer surface loses a run to a rival (the sweep's runs of one surface): the first sample t
+// in [from, stop] where its depth lead `lead` at `from`, changing by step < 0 a sample, is lost (below
+// 0, or 0 when the rival wins ties); stop + 1 if none. |lead|, |step| < 2^48. Stepped sample by sample
+// (no division: the boards, where a 64-bit division is a library call), or by one division (64-bit
+// hosts: a wall crossed at a shallow angle is hundreds of samples away). The same sample.
+inline int32_t lead_lost_stepped(int64_t lead, int64_t step, bool rival_wins_ties, int32_t from, int32_t stop) {
+  for (int32_t t = from; t <= stop; ++t, lead += step)
+    if (lead < 0 || (lead == 0 && rival_wins_ties)) return t;
+  return stop + 1;
+}
+inline int32_t lead_lost_divided(int64_t lead, int64_t step, bool rival_wins_ties, int32_t from, int32_t stop) {
+  // lead + i step < 0 from i = floor(lead / -step) + 1 on; <= 0 from i = ceil(lead / -step).
+  if (lead < 0 || (lead == 0 && rival_wins_ties)) return from;
+  const int64_t i = rival_wins_ties ? (lead - step - 1) / -step : lead / -step + 1;
+  return i > int64_t(stop) - from ? stop + 1 : from + int32_t(i);
+}
+
 // Interpolated vertex normal (Q1.14 in, Q1.14 out) renormalized with Newton steps
 // x1 = x0 (1.5 - 0.5 |x0|^2) (Woo & Chall §4.4, core/fixed.h newton_renormalize_q14), no sqrt.
 Vec3i interpolate_normal(const int16_t n[3][3], const int32_t w[3], int steps = 2);

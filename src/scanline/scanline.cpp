@@ -1390,9 +1390,9 @@ struct Renderer {
   }
 
   // The last sample in [x, end] up to which piece `best`, nearest at x, stays nearest among the k
-  // active spans (ties to the smaller id, as in the sweep): each rival's depth lead is stepped sample by
-  // sample, no division. Where both spans hold x and x + 1 the depths are true values in [0, 2^46], so
-  // their differences and steps are exact in int64 (z_run is one step ahead, at x + 1).
+  // active spans (ties to the smaller id, as in the sweep). Where both spans hold x and x + 1 the depths
+  // are true values in [0, 2^46], so their differences and steps are exact in int64 (z_run is one step
+  // ahead, at x + 1).
   int32_t winner_end(uint32_t best, uint32_t k, int32_t x, int32_t end) const {
     const ActiveTri& b = act[best];
     for (uint32_t j = 0; j < k && end > x; ++j) {
@@ -1401,9 +1401,12 @@ struct Renderer {
       if (xact[j] == best || stop <= x) continue;
       const int64_t step = int64_t(b.gx - r.gx);
       if (step >= 0) continue;  // the lead never shrinks
-      int64_t lead = int64_t(b.z_run - r.z_run);
-      for (int32_t t = x + 1; t <= stop; ++t, lead += step)
-        if (lead < 0 || (lead == 0 && r.id < b.id)) { end = t - 1; break; }
+#if UINTPTR_MAX > 0xFFFFFFFFu
+      const int32_t lost = lead_lost_divided(int64_t(b.z_run - r.z_run), step, r.id < b.id, x + 1, stop);
+#else
+      const int32_t lost = lead_lost_stepped(int64_t(b.z_run - r.z_run), step, r.id < b.id, x + 1, stop);
+#endif
+      if (lost <= stop) end = lost - 1;
     }
     return end;
   }

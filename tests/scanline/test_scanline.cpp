@@ -281,6 +281,36 @@ TEST(ScanlineWide, Divide128By64MatchesInt128) {
   }
 }
 
+// Where a run's surface loses to a rival: the hosts' division gives the boards' stepped sample, for
+// leads lost at once, exactly on a sample (ties either way), between samples, at the last sample, past
+// it, and far past it (the division's quotient beyond int32).
+TEST(ScanlineMath, LeadLostByDivisionMatchesSteps) {
+  const struct { int64_t lead, step; } cases[] = {
+      {-1, -1}, {0, -1}, {1, -1}, {6, -3}, {7, -3}, {8, -3}, {9, -3}, {100, -1}, {99, -100}, {100, -100},
+      {101, -100}, {int64_t(1) << 46, -1}, {(int64_t(1) << 46) - 1, -(int64_t(1) << 47)},
+  };
+  for (const auto& c : cases)
+    for (bool ties : {false, true})
+      for (int32_t stop : {0, 1, 2, 3, 5, 50, 101, 1000}) {
+        EXPECT_EQ(ml::scan::lead_lost_divided(c.lead, c.step, ties, 0, stop),
+                  ml::scan::lead_lost_stepped(c.lead, c.step, ties, 0, stop))
+            << c.lead << " " << c.step << " " << ties << " " << stop;
+        EXPECT_EQ(ml::scan::lead_lost_divided(c.lead, c.step, ties, 7, stop + 7),
+                  ml::scan::lead_lost_stepped(c.lead, c.step, ties, 7, stop + 7));
+      }
+  std::mt19937_64 rng(11);
+  for (int i = 0; i < 20000; ++i) {
+    const int64_t step = -int64_t(1 + rng() % (uint64_t(1) << (1 + rng() % 47)));
+    // leads around a multiple of the step, so that exact crossings and ties come up often
+    const int64_t lead = -step * int64_t(rng() % 600) + int64_t(rng() % 5) - 2;
+    const bool ties = rng() & 1;
+    const int32_t from = int32_t(rng() % 2000), stop = from + int32_t(rng() % 700) - 1;
+    ASSERT_EQ(ml::scan::lead_lost_divided(lead, step, ties, from, stop),
+              ml::scan::lead_lost_stepped(lead, step, ties, from, stop))
+        << lead << " " << step << " " << ties << " " << from << " " << stop;
+  }
+}
+
 TEST(ScanlineMath, NormalsRenormalizeWithNewton) {
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> u(-1, 1);
