@@ -140,6 +140,14 @@ inline int32_t lead_lost_divided(int64_t lead, int64_t step, bool rival_wins_tie
   const int64_t i = rival_wins_ties ? (lead - step - 1) / -step : lead / -step + 1;
   return i > int64_t(stop) - from ? stop + 1 : from + int32_t(i);
 }
+// The form for this target.
+inline int32_t lead_lost(int64_t lead, int64_t step, bool rival_wins_ties, int32_t from, int32_t stop) {
+#if UINTPTR_MAX > 0xFFFFFFFFu
+  return lead_lost_divided(lead, step, rival_wins_ties, from, stop);
+#else
+  return lead_lost_stepped(lead, step, rival_wins_ties, from, stop);
+#endif
+}
 
 // Interpolated vertex normal (Q1.14 in, Q1.14 out) renormalized with Newton steps
 // x1 = x0 (1.5 - 0.5 |x0|^2) (Woo & Chall §4.4, core/fixed.h newton_renormalize_q14), no sqrt.

@@ -1401,11 +1401,7 @@ struct Renderer {
       if (xact[j] == best || stop <= x) continue;
       const int64_t step = int64_t(b.gx - r.gx);
       if (step >= 0) continue;  // the lead never shrinks
-#if UINTPTR_MAX > 0xFFFFFFFFu
-      const int32_t lost = lead_lost_divided(int64_t(b.z_run - r.z_run), step, r.id < b.id, x + 1, stop);
-#else
-      const int32_t lost = lead_lost_stepped(int64_t(b.z_run - r.z_run), step, r.id < b.id, x + 1, stop);
-#endif
+      const int32_t lost = lead_lost(int64_t(b.z_run - r.z_run), step, r.id < b.id, x + 1, stop);
       if (lost <= stop) end = lost - 1;
     }
     return end;

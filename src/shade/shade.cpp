@@ -32,6 +32,11 @@ namespace {
 // component has 30 bits (|N| >= 2^29: its square root loses at most 2^-29 of it); false when the
 // triangle is degenerate. normalize_q30 gives the same unit vector for it as for the unscaled product
 // (it keeps 21 bits, taken here by the same floors).
+// Ambient + diffuse * cosine, Q8, for a Q1.30 cosine >= 0 (lambert_q8 and face_lambert_q8).
+int32_t lambert_of_cosine(const Light& light, int64_t cosine_q30) {
+  return int32_t(light.ambient_q8 + mul_shift(light.diffuse_q8, cosine_q30, kUnitBits));
+}
+
 bool face_cross(const Vec3i world[3], Vec3i* out) {
   // World points lie within ±2^24: differences within ±2^25, products within ±2^50 (32 x 32 bits).
   const int32_t ax = world[1].x - world[0].x, ay = world[1].y - world[0].y, az = world[1].z - world[0].z;
@@ -64,14 +69,12 @@ int32_t face_lambert_q8(const Light& light, const Vec3i world[3], bool front_fac
   const int64_t lit = front_facing ? dot : -dot;  // the side seen
   if (lit <= 0) return light.ambient_q8;
   const uint64_t length = isqrt64(uint64_t(dot64(n, n)));  // 2^29 .. 2^31
-  const int64_t cosine = div_round(lit, int64_t(length));  // Q1.30
-  return int32_t(light.ambient_q8 + mul_shift(light.diffuse_q8, cosine, kUnitBits));
+  return lambert_of_cosine(light, div_round(lit, int64_t(length)));  // Q1.30
 }
 
 int32_t lambert_q8(const Light& light, const Vec3i& normal_q30) {
   const int64_t cosine = shift_round(dot64(normal_q30, light.to_light), kUnitBits);  // Q1.30
-  const int64_t lit = cosine > 0 ? mul_shift(light.diffuse_q8, cosine, kUnitBits) : 0;
-  return int32_t(light.ambient_q8 + lit);
+  return lambert_of_cosine(light, max_of<int64_t>(0, cosine));
 }
 
 Pixel modulate(const uint8_t base[4], int32_t intensity_q8) {

@@ -17,6 +17,23 @@ write_doc_section() {
   fi
 }
 
+# ratio A B [DECIMALS]: A / B with two decimals (or DECIMALS: a target's verdict reads three), or "n/a"
+ratio() {
+  if [ -n "${1:-}" ] && [ -n "${2:-}" ] && [ "$2" != 0 ]; then
+    awk -v a="$1" -v b="$2" -v d="${3:-2}" 'BEGIN { printf "%.*f", d, a / b }'
+  else
+    echo n/a
+  fi
+}
+
+# A targets table under TITLE, its rows made by target_row. Prints the lines.
+# Usage: targets_table TITLE ROW...
+targets_table() {
+  printf '%s\n' "" "$1" "" "| target | goal | measured | |" "|---|---:|---:|---|"
+  shift
+  printf '%s\n' "$@"
+}
+
 # One row of a targets table: | LABEL | <= GOAL | MEASURED | met, missed or not measured |, for a
 # target that MEASURED must not exceed. Prints the row.
 # Usage: target_row LABEL MEASURED GOAL

@@ -128,14 +128,6 @@ done
 header="| scene | renderer | size | aa | instructions/frame | per pixel | vs z-buffer | per tiled triangle | split ratio | cells/pixel | peak arena bytes | shading_calls/geometry_samples | m_max | n |"
 sep="|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 table=$(printf '%s\n%s\n' "$header" "$sep"; printf '%s\n' "${rows[@]}")
-# ratio A B [DECIMALS]: A / B with two decimals (or DECIMALS: a target's verdict reads three), or "n/a"
-ratio() {
-  if [ -n "${1:-}" ] && [ -n "${2:-}" ] && [ "$2" != 0 ]; then
-    awk -v a="$1" -v b="$2" -v d="${3:-2}" 'BEGIN { printf "%.*f", d, a / b }'
-  else
-    echo n/a
-  fi
-}
 notes=("" "Key ratios:")
 for name in engine tessellated default duck; do
   [ -n "${all_ir[$name.scanline.320x240.1]:-}" ] || continue
@@ -164,7 +156,7 @@ for label in tiler "tiler, a band at a time"; do
 done
 notes+=("- office, tiler / z-buffer: 320x240 $(ratio "${all_ir[office.tiler.320x240.1]:-}" "${all_ir[office.zbuffer.320x240.1]:-}"), 1024x768 $(ratio "${all_ir[office.tiler.1024x768.1]:-}" "${all_ir[office.zbuffer.1024x768.1]:-}")")
 # The speed targets (the speed issue; docs/tiler.md and docs/scanline.md say where the costs lie).
-targets=("" "Speed targets, measured in this run:" "" "| target | goal | measured | |" "|---|---:|---:|---|")
+targets=()
 targets+=("$(target_row "engine, tiler, 320x240 (instructions)" "${all_ir[engine.tiler.320x240.1]:-}" 63000000)")
 targets+=("$(target_row "engine, tiler, 1024x768" "${all_ir[engine.tiler.1024x768.1]:-}" 81000000)")
 targets+=("$(target_row "engine, tiler, 1024x768 / 320x240" \
@@ -175,7 +167,7 @@ for name in engine tessellated default duck; do
   targets+=("$(target_row "$name, scanline 3x3 / 1x1" \
     "$(ratio "${all_ir[$name.scanline.320x240.3]:-}" "${all_ir[$name.scanline.320x240.1]:-}" 3)" 2.0)")
 done
-table=$(printf '%s\n' "$table" "${notes[@]}" "${targets[@]}")
+table=$(printf '%s\n' "$table" "${notes[@]}"; targets_table "Speed targets, measured in this run:" "${targets[@]}")
 echo
 echo "$table"
 echo
