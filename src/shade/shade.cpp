@@ -28,15 +28,15 @@ Light make_light(const View& view) {
 
 namespace {
 
-// The face's cross product (counter-clockwise front) scaled by a power of two so that its largest
-// component has 30 bits (|N| >= 2^29: its square root loses at most 2^-29 of it); false when the
-// triangle is degenerate. normalize_q30 gives the same unit vector for it as for the unscaled product
-// (it keeps 21 bits, taken here by the same floors).
 // Ambient + diffuse * cosine, Q8, for a Q1.30 cosine >= 0 (lambert_q8 and face_lambert_q8).
 int32_t lambert_of_cosine(const Light& light, int64_t cosine_q30) {
   return int32_t(light.ambient_q8 + mul_shift(light.diffuse_q8, cosine_q30, kUnitBits));
 }
 
+// The face's cross product (counter-clockwise front) scaled by a power of two so that its largest
+// component has 30 bits (|N| >= 2^29: its square root loses at most 2^-29 of it); false when the
+// triangle is degenerate. normalize_q30 gives the same unit vector for it as for the unscaled product
+// (it keeps 21 bits, taken here by the same floors).
 bool face_cross(const Vec3i world[3], Vec3i* out) {
   // World points lie within ±2^24: differences within ±2^25, products within ±2^50 (32 x 32 bits).
   const int32_t ax = world[1].x - world[0].x, ay = world[1].y - world[0].y, az = world[1].z - world[0].z;

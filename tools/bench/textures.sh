@@ -75,8 +75,9 @@ for s in "${scenes[@]}"; do
       banded|boxtextured|duck-textured)
         targets+=("$(target_row "${s%-textured}, $r, textured / untextured" "$(ratio "$with" "$without" 3)" 1.4)") ;;
     esac
-    [ "$s" != banded ] ||
+    if [ "$s" = banded ]; then
       targets+=("$(target_row "banded, $r, peak resident / all textures' bytes" "$(ratio "$peak" "$total" 3)" 0.5)")
+    fi
     echo "  ${s%-textured} $r: $with vs $without instructions ($ratio x), $read_bytes bytes read, peak $peak of $total"
   done
 done
