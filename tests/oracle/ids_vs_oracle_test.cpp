@@ -218,6 +218,16 @@ size_t check_renderers_agree(const ml::Scene& scene, const ml::Camera& camera) {
   return split_pixels;
 }
 
+// office(8) seen down its rows: up to hundreds of spans a row, most of them hidden, which the
+// scanline renderer's sweep drops where the span in front hides them to their end.
+TEST(OracleRenderersAgree, OfficeSeenDownItsRows) {
+  const ml::CompileResult r = ml::build_office_scene(8);
+  ASSERT_TRUE(r.ok) << r.error;
+  ml::Scene office;
+  ASSERT_TRUE(ml::read_scene(r.blob.data(), r.blob.size, &office).ok());
+  check_renderers_agree(office, tiler_test::hint_camera(r, office, 160, 120));
+}
+
 TEST(OracleRenderersAgree, DefaultEngineAndRandomScenes) {
   check_renderers_agree(default_scene().scene, framing(default_scene().scene, 160, 120));
   if (const auto* e = engine_scene()) check_renderers_agree(e->scene, framing(e->scene, 160, 120));

@@ -538,100 +538,175 @@ TEST(ScanlineDepth, NearestSurfaceWinsAgainstDoubleReference) {
   EXPECT_GT(decisive, 5000u);
 }
 
+// Appends a primitive of one triangle (at pos) with a double-sided material of its own, colour (r, g, b):
+// triangle i has material i.
+void add_triangle(uint8_t r, uint8_t g, uint8_t b, const std::vector<std::array<int32_t, 3>>& pos,
+                  std::vector<Material>* mats, std::vector<Prim>* prims) {
+  Material m;
+  m.double_sided = true;
+  m.rgba[0] = r, m.rgba[1] = g, m.rgba[2] = b;
+  Prim p;
+  p.material = uint32_t(mats->size());
+  p.pos = pos;
+  p.tris.push_back({0, 1, 2});
+  mats->push_back(m);
+  prims->push_back(p);
+}
+
+// A projected piece with its coverage edge functions (view.h, fill rule included) and unlit colour.
+struct ReferencePiece {
+  ml::ScreenTriangle t;
+  ml::EdgeFunction e[3];
+  ml::Pixel colour;
+};
+
+// Every piece of the scene's triangles; triangle i has material i.
+std::vector<ReferencePiece> reference_pieces(const BuiltScene& b, const std::vector<Material>& mats,
+                                             const ml::View& view) {
+  std::vector<ReferencePiece> pieces;
+  for (uint32_t id = 0; id < b.scene.triangle_count; ++id) {
+    ml::Vec3i wp[3];
+    ml::triangle_world(b.scene, id, wp);
+    ml::ScreenTriangle pc[ml::kMaxClipTriangles];
+    const int np = ml::project_triangle(view, wp, pc);
+    const uint8_t* rgba = mats[id].rgba;
+    for (int k = 0; k < np; ++k) {
+      ReferencePiece p{pc[k], {}, (uint32_t(rgba[0]) << 16) | (uint32_t(rgba[1]) << 8) | rgba[2]};
+      for (int i = 0; i < 3; ++i) {
+        const ml::ScreenVertex &P = pc[k].v[i], &Q = pc[k].v[(i + 1) % 3];
+        p.e[i] = ml::edge_function(P.x, P.y, Q.x, Q.y);
+      }
+      pieces.push_back(p);
+    }
+  }
+  return pieces;
+}
+
+// The colour of lattice sample (sx, sy) of an aa x aa lattice (q = aa - 1: at (256 sx / q, 256 sy / q)
+// subpixels, E * q exact in int64) from double-precision depths; false when the two nearest pieces
+// there are too close in depth to tell.
+bool reference_sample(const std::vector<ReferencePiece>& pieces, int32_t sx, int32_t sy, int32_t q,
+                      ml::Pixel* colour) {
+  double best = -1, second = -1;
+  for (const ReferencePiece& p : pieces) {
+    bool in = true;
+    for (const ml::EdgeFunction& e : p.e) in = in && e.a * 256 * sx + e.b * 256 * sy + e.c * q >= 0;
+    if (!in) continue;
+    const double fx = 256.0 * sx / q, fy = 256.0 * sy / q;
+    double l[3];
+    for (int j = 0; j < 3; ++j) {
+      const auto& P = p.t.v[(j + 1) % 3];
+      const auto& Q = p.t.v[(j + 2) % 3];
+      l[j] = (double(Q.x) - P.x) * (fy - P.y) - (double(Q.y) - P.y) * (fx - P.x);
+    }
+    const double d = (l[0] * p.t.v[0].depth + l[1] * p.t.v[1].depth + l[2] * p.t.v[2].depth) / double(p.t.area2);
+    if (d > best) { second = best; best = d; *colour = p.colour; }
+    else if (d > second) second = d;
+  }
+  return second < 0 || best - second >= 2.0;
+}
+
+// Every pixel whose aa x aa lattice samples all have a clear winner (or none) must be the rounded mean
+// of those samples' colours (unlit; triangle i has material i). Returns the pixels compared; *mixed
+// counts those of more than one colour.
+size_t expect_supersampled_matches_double_reference(const BuiltScene& b, const std::vector<Material>& mats,
+                                                    const ml::Camera& cam, int aa, size_t* mixed) {
+  const int32_t q = aa - 1;
+  ml::View view;
+  EXPECT_TRUE(ml::make_view(cam, &view).ok());
+  Result r;
+  const ml::RenderOptions o = options(ml::ShadingMode::Unlit, aa);
+  render(b.scene, cam, o, &r);
+  EXPECT_TRUE(r.status.ok()) << r.status.message;
+  if (!r.status.ok()) return 0;
+  const std::vector<ReferencePiece> pieces = reference_pieces(b, mats, view);
+  size_t decisive = 0;
+  for (int py = 0; py < cam.height; ++py)
+    for (int px = 0; px < cam.width; ++px) {
+      uint32_t sum[3] = {0, 0, 0};
+      bool clear = true;
+      std::set<ml::Pixel> colours;
+      for (int32_t sy = py * q; sy <= py * q + q && clear; ++sy)
+        for (int32_t sx = px * q; sx <= px * q + q && clear; ++sx) {
+          ml::Pixel colour = o.background;
+          clear = reference_sample(pieces, sx, sy, q, &colour);
+          for (int ch = 0; ch < 3; ++ch) sum[ch] += (colour >> (16 - 8 * ch)) & 0xFF;
+          colours.insert(colour);
+        }
+      if (!clear) continue;
+      const uint32_t l2 = uint32_t(aa * aa);
+      const ml::Pixel expect = ((sum[0] + l2 / 2) / l2 << 16) | ((sum[1] + l2 / 2) / l2 << 8) | (sum[2] + l2 / 2) / l2;
+      ++decisive;
+      *mixed += colours.size() > 1;
+      if (r.sink.at(px, py) != expect) {
+        ADD_FAILURE() << "aa " << aa << " at " << px << "," << py << ": " << std::hex << r.sink.at(px, py)
+                      << ", expected " << expect;
+        return decisive;
+      }
+    }
+  return decisive;
+}
+
 // Supersampled: random interpenetrating triangles of distinct unlit colours, where the nearest piece
 // changes inside spans (the sweep resolves each winner's samples as one run up to where a rival's depth
-// overtakes it). Every pixel whose l x l lattice samples all have a clear winner (or none) must be the
-// rounded mean of those samples' colours, each from double-precision depths at the exact lattice point.
+// overtakes it).
 TEST(ScanlineDepth, SupersampledNearestSurfaceMatchesDoubleReference) {
   std::mt19937 rng(31);
-  const int w = 80, h = 60;
-  const ml::Camera cam = camera_at({0, 0, 6000}, {0, 0, 0}, w, h, 100);
-  ml::View view;
-  ASSERT_TRUE(ml::make_view(cam, &view).ok());
+  const ml::Camera cam = camera_at({0, 0, 6000}, {0, 0, 0}, 80, 60, 100);
   size_t decisive = 0, mixed = 0;
   for (int it = 0; it < 12; ++it) {
-    const int aa = 2 + it % 3;
-    const int32_t q = aa - 1;
+    SCOPED_TRACE("it " + std::to_string(it));
     std::vector<Material> mats;
     std::vector<Prim> prims;
     std::uniform_int_distribution<int32_t> c(-3000, 3000);
     for (int t = 0; t < 8; ++t) {
-      Material m;
-      m.double_sided = true;
-      m.rgba[0] = uint8_t(30 * t + 10);
-      m.rgba[1] = uint8_t(250 - 29 * t);
-      m.rgba[2] = uint8_t(rng() % 256);
-      mats.push_back(m);
-      Prim p;
-      p.material = uint32_t(t);
-      for (int k = 0; k < 3; ++k) p.pos.push_back({c(rng), c(rng), c(rng)});
-      p.tris.push_back({0, 1, 2});
-      prims.push_back(p);
+      const uint8_t blue = uint8_t(rng() % 256);
+      std::vector<std::array<int32_t, 3>> pos;
+      for (int k = 0; k < 3; ++k) pos.push_back({c(rng), c(rng), c(rng)});
+      add_triangle(uint8_t(30 * t + 10), uint8_t(250 - 29 * t), blue, pos, &mats, &prims);
     }
     BuiltScene b;
     scantest::build(mats, prims, &b);
     ASSERT_TRUE(b.status.ok());
-    Result r;
-    const ml::RenderOptions o = options(ml::ShadingMode::Unlit, aa);
-    render(b.scene, cam, o, &r);
-    ASSERT_TRUE(r.status.ok());
-    // Every piece with its coverage edge functions (view.h, fill rule included).
-    struct Piece { ml::ScreenTriangle t; ml::EdgeFunction e[3]; ml::Pixel colour; };
-    std::vector<Piece> pieces;
-    for (uint32_t id = 0; id < b.scene.triangle_count; ++id) {
-      ml::Vec3i wp[3];
-      ml::triangle_world(b.scene, id, wp);
-      ml::ScreenTriangle pc[ml::kMaxClipTriangles];
-      const int np = ml::project_triangle(view, wp, pc);
-      const uint8_t* rgba = mats[id].rgba;
-      for (int k = 0; k < np; ++k) {
-        Piece p{pc[k], {}, (uint32_t(rgba[0]) << 16) | (uint32_t(rgba[1]) << 8) | rgba[2]};
-        for (int i = 0; i < 3; ++i) {
-          const ml::ScreenVertex &P = pc[k].v[i], &Q = pc[k].v[(i + 1) % 3];
-          p.e[i] = ml::edge_function(P.x, P.y, Q.x, Q.y);
-        }
-        pieces.push_back(p);
-      }
-    }
-    for (int py = 0; py < h; ++py)
-      for (int px = 0; px < w; ++px) {
-        uint32_t sum[3] = {0, 0, 0};
-        bool clear = true;
-        std::set<ml::Pixel> colours;
-        for (int32_t sy = py * q; sy <= py * q + q && clear; ++sy)
-          for (int32_t sx = px * q; sx <= px * q + q && clear; ++sx) {
-            // Lattice sample (sx, sy) at (256 sx / q, 256 sy / q) subpixels: E * q exact in int64.
-            double best = -1, second = -1;
-            ml::Pixel colour = o.background;
-            for (const Piece& p : pieces) {
-              bool in = true;
-              for (const ml::EdgeFunction& e : p.e) in = in && e.a * 256 * sx + e.b * 256 * sy + e.c * q >= 0;
-              if (!in) continue;
-              const double fx = 256.0 * sx / q, fy = 256.0 * sy / q;
-              double l[3];
-              for (int j = 0; j < 3; ++j) {
-                const auto& P = p.t.v[(j + 1) % 3];
-                const auto& Q = p.t.v[(j + 2) % 3];
-                l[j] = (double(Q.x) - P.x) * (fy - P.y) - (double(Q.y) - P.y) * (fx - P.x);
-              }
-              const double d = (l[0] * p.t.v[0].depth + l[1] * p.t.v[1].depth + l[2] * p.t.v[2].depth) / double(p.t.area2);
-              if (d > best) { second = best; best = d; colour = p.colour; }
-              else if (d > second) second = d;
-            }
-            if (second >= 0 && best - second < 2.0) clear = false;
-            for (int ch = 0; ch < 3; ++ch) sum[ch] += (colour >> (16 - 8 * ch)) & 0xFF;
-            colours.insert(colour);
-          }
-        if (!clear) continue;
-        const uint32_t l2 = uint32_t(aa * aa);
-        const ml::Pixel expect = ((sum[0] + l2 / 2) / l2 << 16) | ((sum[1] + l2 / 2) / l2 << 8) | (sum[2] + l2 / 2) / l2;
-        ++decisive;
-        mixed += colours.size() > 1;
-        ASSERT_EQ(r.sink.at(px, py), expect) << "it " << it << " aa " << aa << " at " << px << "," << py;
-      }
+    decisive += expect_supersampled_matches_double_reference(b, mats, cam, 2 + it % 3, &mixed);
   }
   EXPECT_GT(decisive, 30000u);
   EXPECT_GT(mixed, 1000u);
+}
+
+// Layers of small triangles behind large ones, as in a room seen down its rows: the sweep drops a span
+// that the winning span hides to its end (hidden_behind), so such spans must be hidden at every
+// sample. Some small triangles are slanted through the large ones' depths or poke out past their
+// edges, and so are seen in part.
+TEST(ScanlineDepth, LayeredHiddenSpansMatchDoubleReference) {
+  std::mt19937 rng(47);
+  const ml::Camera cam = camera_at({0, 0, 6000}, {0, 0, 0}, 80, 60, 100);
+  size_t decisive = 0, mixed = 0;
+  for (int it = 0; it < 6; ++it) {
+    SCOPED_TRACE("it " + std::to_string(it));
+    std::vector<Material> mats;
+    std::vector<Prim> prims;
+    std::uniform_int_distribution<int32_t> spot(-2600, 2600), size(150, 700), slant(-900, 900);
+    for (int t = 0; t < 64; ++t) {
+      const uint8_t blue = uint8_t(rng() % 256);
+      std::vector<std::array<int32_t, 3>> pos;
+      if (t < 4) {  // a large near triangle
+        const int32_t x = spot(rng) / 2, y = spot(rng) / 2, z = 1500 + 200 * t;
+        pos = {{x - 2500, y - 1800, z}, {x + 2500, y - 1600, z + slant(rng) / 3}, {x, y + 2400, z}};
+      } else {  // a small one behind, at its own depth, some slanted
+        const int32_t x = spot(rng), y = spot(rng), z = -2000 + 45 * t, d = size(rng);
+        const int32_t tilt = t % 5 == 0 ? 6 * slant(rng) : slant(rng) / 8;
+        pos = {{x - d, y - d, z}, {x + d, y - d / 2, z + tilt}, {x, y + d, z - tilt}};
+      }
+      add_triangle(uint8_t(4 * t), uint8_t(255 - 3 * t), blue, pos, &mats, &prims);
+    }
+    BuiltScene b;
+    scantest::build(mats, prims, &b);
+    ASSERT_TRUE(b.status.ok());
+    decisive += expect_supersampled_matches_double_reference(b, mats, cam, 2 + it % 3, &mixed);
+  }
+  EXPECT_GT(decisive, 25000u);
+  EXPECT_GT(mixed, 2000u);
 }
 
 // ---- transparency -----------------------------------------------------------------------------------

@@ -17,6 +17,7 @@
 namespace {
 
 using tiler_test::CountingSink;
+using tiler_test::hint_camera;
 using tiler_test::OwnedPyramid;
 using tiler_test::RecordingWriter;
 
@@ -1022,21 +1023,6 @@ TEST(TilerCull, HiddenSubtreesAreSkippedWithoutChangingTheImage) {
     const auto expect = brute_ids(ts, cam);
     for (size_t p = 0; p < expect.size(); ++p) ASSERT_EQ(culled.sink.image[p], expect[p]) << "pixel " << p;
   }
-}
-
-ml::Camera hint_camera(const ml::CompileResult& r, const ml::Scene& s, int w, int h) {
-  ml::Camera cam = ml::frame_sphere(ml::Vec3i{s.info->sphere_center[0], s.info->sphere_center[1],
-                                              s.info->sphere_center[2]},
-                                    s.info->sphere_radius, w, h, 45 << 16);
-  if (!r.camera.valid) return cam;
-  auto round3 = [](const double* v, double k) {
-    return ml::Vec3i{int32_t(std::llround(v[0] * k)), int32_t(std::llround(v[1] * k)), int32_t(std::llround(v[2] * k))};
-  };
-  cam.eye = round3(r.camera.eye, 1);
-  cam.target = round3(r.camera.target, 1);
-  cam.up = round3(r.camera.up, 1 << 20);
-  cam.near = std::max(16, s.info->sphere_radius / 1024);
-  return cam;
 }
 
 // The occluded office (the benchmark scene): most subtrees are culled from the hint camera, and for

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <functional>
 #include <string>
@@ -360,6 +361,23 @@ struct TestScene {
   ml::Blob blob;
   ml::Status status;
 };
+
+// The camera a compiled scene suggests (the office scene looks down its rows; CompileResult::camera),
+// else the framing of its bounding sphere.
+inline ml::Camera hint_camera(const ml::CompileResult& r, const ml::Scene& s, int w, int h) {
+  ml::Camera cam = ml::frame_sphere(ml::Vec3i{s.info->sphere_center[0], s.info->sphere_center[1],
+                                              s.info->sphere_center[2]},
+                                    s.info->sphere_radius, w, h, 45 << 16);
+  if (!r.camera.valid) return cam;
+  auto round3 = [](const double* v, double k) {
+    return ml::Vec3i{int32_t(std::llround(v[0] * k)), int32_t(std::llround(v[1] * k)), int32_t(std::llround(v[2] * k))};
+  };
+  cam.eye = round3(r.camera.eye, 1);
+  cam.target = round3(r.camera.target, 1);
+  cam.up = round3(r.camera.up, 1 << 20);
+  cam.near = std::max(16, s.info->sphere_radius / 1024);
+  return cam;
+}
 
 inline ml::Camera test_camera(int w, int h) {
   ml::Camera c;
