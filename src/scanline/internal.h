@@ -84,6 +84,10 @@ static_assert(sizeof(ActiveTri) == (ML_CARRY_EDGE_VALUES ? 128 : 104), "ActiveTr
 
 constexpr uint16_t kNoSpan = 0xFFFF;
 
+// The piece's depth (Q16, mod 2^64) at sample x of the current row: its true depth where its span
+// holds x.
+inline uint64_t depth_at(const ActiveTri& t, int32_t x) { return t.z_row + t.gx * uint64_t(int64_t(x)); }
+
 // The piece's bounding box on the sample lattice, clipped to the screen. False when it holds no sample.
 struct LatticeBox {
   int32_t x0, x1, y0, y1;

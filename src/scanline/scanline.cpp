@@ -1337,7 +1337,7 @@ struct Renderer {
       }
       while (next == x) {
         ActiveTri& a = act[ord[i]];
-        a.z_run = a.z_row + a.gx * uint64_t(int64_t(x));
+        a.z_run = depth_at(a, x);
         xact[k++] = ord[i];
         ++i;
         next = i < live ? int32_t(act[ord[i]].min_x) : lat.nx;
@@ -1403,9 +1403,7 @@ struct Renderer {
   // both spans hold a sample their depths are true values, exact in int64 (winner_end).
   static bool hidden_behind(const ActiveTri& b, const ActiveTri& r, int32_t x) {
     if ((b.flags & kBlend) || b.max_x < r.max_x) return false;
-    const auto lead = [&](int32_t at) {
-      return int64_t((b.z_row + b.gx * uint64_t(int64_t(at))) - (r.z_row + r.gx * uint64_t(int64_t(at))));
-    };
+    const auto lead = [&](int32_t at) { return int64_t(depth_at(b, at) - depth_at(r, at)); };
     const int64_t first = lead(x), last = lead(r.max_x);
     return b.id < r.id ? first >= 0 && last >= 0 : first > 0 && last > 0;
   }

@@ -647,29 +647,45 @@ size_t expect_supersampled_matches_double_reference(const BuiltScene& b, const s
   return decisive;
 }
 
+// Scenes of one-triangle primitives, add_scene(rng, &mats, &prims) making each; scene it is checked
+// at 2 + it % 3 samples a side (expect_supersampled_matches_double_reference). Returns the pixels
+// compared; *mixed counts those of more than one colour.
+template <typename AddScene>
+size_t expect_scenes_match_double_reference(uint32_t seed, int scenes, AddScene add_scene, size_t* mixed) {
+  std::mt19937 rng(seed);
+  const ml::Camera cam = camera_at({0, 0, 6000}, {0, 0, 0}, 80, 60, 100);
+  size_t decisive = 0;
+  for (int it = 0; it < scenes; ++it) {
+    SCOPED_TRACE("scene " + std::to_string(it));
+    std::vector<Material> mats;
+    std::vector<Prim> prims;
+    add_scene(rng, &mats, &prims);
+    BuiltScene b;
+    scantest::build(mats, prims, &b);
+    EXPECT_TRUE(b.status.ok());
+    if (!b.status.ok()) return decisive;
+    decisive += expect_supersampled_matches_double_reference(b, mats, cam, 2 + it % 3, mixed);
+  }
+  return decisive;
+}
+
 // Supersampled: random interpenetrating triangles of distinct unlit colours, where the nearest piece
 // changes inside spans (the sweep resolves each winner's samples as one run up to where a rival's depth
 // overtakes it).
 TEST(ScanlineDepth, SupersampledNearestSurfaceMatchesDoubleReference) {
-  std::mt19937 rng(31);
-  const ml::Camera cam = camera_at({0, 0, 6000}, {0, 0, 0}, 80, 60, 100);
-  size_t decisive = 0, mixed = 0;
-  for (int it = 0; it < 12; ++it) {
-    SCOPED_TRACE("it " + std::to_string(it));
-    std::vector<Material> mats;
-    std::vector<Prim> prims;
-    std::uniform_int_distribution<int32_t> c(-3000, 3000);
-    for (int t = 0; t < 8; ++t) {
-      const uint8_t blue = uint8_t(rng() % 256);
-      std::vector<std::array<int32_t, 3>> pos;
-      for (int k = 0; k < 3; ++k) pos.push_back({c(rng), c(rng), c(rng)});
-      add_triangle(uint8_t(30 * t + 10), uint8_t(250 - 29 * t), blue, pos, &mats, &prims);
-    }
-    BuiltScene b;
-    scantest::build(mats, prims, &b);
-    ASSERT_TRUE(b.status.ok());
-    decisive += expect_supersampled_matches_double_reference(b, mats, cam, 2 + it % 3, &mixed);
-  }
+  size_t mixed = 0;
+  const size_t decisive = expect_scenes_match_double_reference(
+      31, 12,
+      [](std::mt19937& rng, std::vector<Material>* mats, std::vector<Prim>* prims) {
+        std::uniform_int_distribution<int32_t> c(-3000, 3000);
+        for (int t = 0; t < 8; ++t) {
+          const uint8_t blue = uint8_t(rng() % 256);
+          std::vector<std::array<int32_t, 3>> pos;
+          for (int k = 0; k < 3; ++k) pos.push_back({c(rng), c(rng), c(rng)});
+          add_triangle(uint8_t(30 * t + 10), uint8_t(250 - 29 * t), blue, pos, mats, prims);
+        }
+      },
+      &mixed);
   EXPECT_GT(decisive, 30000u);
   EXPECT_GT(mixed, 1000u);
 }
@@ -679,32 +695,26 @@ TEST(ScanlineDepth, SupersampledNearestSurfaceMatchesDoubleReference) {
 // sample. Some small triangles are slanted through the large ones' depths or poke out past their
 // edges, and so are seen in part.
 TEST(ScanlineDepth, LayeredHiddenSpansMatchDoubleReference) {
-  std::mt19937 rng(47);
-  const ml::Camera cam = camera_at({0, 0, 6000}, {0, 0, 0}, 80, 60, 100);
-  size_t decisive = 0, mixed = 0;
-  for (int it = 0; it < 6; ++it) {
-    SCOPED_TRACE("it " + std::to_string(it));
-    std::vector<Material> mats;
-    std::vector<Prim> prims;
-    std::uniform_int_distribution<int32_t> spot(-2600, 2600), size(150, 700), slant(-900, 900);
-    for (int t = 0; t < 64; ++t) {
-      const uint8_t blue = uint8_t(rng() % 256);
-      std::vector<std::array<int32_t, 3>> pos;
-      if (t < 4) {  // a large near triangle
-        const int32_t x = spot(rng) / 2, y = spot(rng) / 2, z = 1500 + 200 * t;
-        pos = {{x - 2500, y - 1800, z}, {x + 2500, y - 1600, z + slant(rng) / 3}, {x, y + 2400, z}};
-      } else {  // a small one behind, at its own depth, some slanted
-        const int32_t x = spot(rng), y = spot(rng), z = -2000 + 45 * t, d = size(rng);
-        const int32_t tilt = t % 5 == 0 ? 6 * slant(rng) : slant(rng) / 8;
-        pos = {{x - d, y - d, z}, {x + d, y - d / 2, z + tilt}, {x, y + d, z - tilt}};
-      }
-      add_triangle(uint8_t(4 * t), uint8_t(255 - 3 * t), blue, pos, &mats, &prims);
-    }
-    BuiltScene b;
-    scantest::build(mats, prims, &b);
-    ASSERT_TRUE(b.status.ok());
-    decisive += expect_supersampled_matches_double_reference(b, mats, cam, 2 + it % 3, &mixed);
-  }
+  size_t mixed = 0;
+  const size_t decisive = expect_scenes_match_double_reference(
+      47, 6,
+      [](std::mt19937& rng, std::vector<Material>* mats, std::vector<Prim>* prims) {
+        std::uniform_int_distribution<int32_t> spot(-2600, 2600), size(150, 700), slant(-900, 900);
+        for (int t = 0; t < 64; ++t) {
+          const uint8_t blue = uint8_t(rng() % 256);
+          std::vector<std::array<int32_t, 3>> pos;
+          if (t < 4) {  // a large near triangle
+            const int32_t x = spot(rng) / 2, y = spot(rng) / 2, z = 1500 + 200 * t;
+            pos = {{x - 2500, y - 1800, z}, {x + 2500, y - 1600, z + slant(rng) / 3}, {x, y + 2400, z}};
+          } else {  // a small one behind, at its own depth, some slanted
+            const int32_t x = spot(rng), y = spot(rng), z = -2000 + 45 * t, d = size(rng);
+            const int32_t tilt = t % 5 == 0 ? 6 * slant(rng) : slant(rng) / 8;
+            pos = {{x - d, y - d, z}, {x + d, y - d / 2, z + tilt}, {x, y + d, z - tilt}};
+          }
+          add_triangle(uint8_t(4 * t), uint8_t(255 - 3 * t), blue, pos, mats, prims);
+        }
+      },
+      &mixed);
   EXPECT_GT(decisive, 25000u);
   EXPECT_GT(mixed, 2000u);
 }
