@@ -17,8 +17,10 @@ MASK_K  ?= 16
 WARN      := -Wall -Wextra -Werror
 CXXSTD    := -std=c++17
 INCLUDES  := -Isrc -I.
-# src/ runs on the board: integer-only (a float is a compile error), no exceptions, no RTTI.
-CORE_FLAGS := $(CXXSTD) $(WARN) $(INCLUDES) -mgeneral-regs-only -fno-exceptions -fno-rtti
+# src/ runs on the board: integer-only (a float is a compile error), no exceptions, no RTTI. No SLP
+# vectorizer on the host: with -mgeneral-regs-only GCC 12 packs pairs of 32-bit operations into one
+# 64-bit register and got a pair of __builtin_ctz wrong there (docs/design.md); it gains nothing here.
+CORE_FLAGS := $(CXXSTD) $(WARN) $(INCLUDES) -mgeneral-regs-only -fno-exceptions -fno-rtti -fno-tree-slp-vectorize
 HOST_FLAGS := $(CXXSTD) $(WARN) $(INCLUDES)
 OPT       := -O2 -g
 SAN       := -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
@@ -255,7 +257,7 @@ fuzz: bootstrap
 	bash tests/fuzz/run_gltf.sh $(BUILD) 60
 
 test: bootstrap
-	@$(MAKE) --no-print-directory $(BUILD)/san/tests $(BUILD)/san/maskline $(BUILD)/maskgen $(BUILD)/fuzz_blob_reader \
+	@$(MAKE) --no-print-directory $(BUILD)/san/tests $(BUILD)/san/maskline $(BUILD)/maskline $(BUILD)/maskgen $(BUILD)/fuzz_blob_reader \
 	  $(BUILD)/fuzz_gltf_import $(QEMU_FB) $(FW_ELFS)
 	@bash tests/run_all.sh $(BUILD) $(MASK_K)
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs every test: the sanitized GoogleTest binary (unit, property, oracle and CLI tests), the fuzz
-# smoke runs of the blob reader and of the glTF importer, the framebuffer test under QEMU
-# (tests/qemu-fbdev) and the firmware checks under qemu-system-arm (tests/firmware).
+# smoke runs of the blob reader and of the glTF importer, the release CLI's pictures against the
+# sanitized CLI's (tests/release), the framebuffer test under QEMU (tests/qemu-fbdev) and the
+# firmware checks under qemu-system-arm (tests/firmware).
 # Usage: tests/run_all.sh BUILD MASK_K
 # The last line is exactly "N passed, N failed"; the exit status is non-zero when anything failed.
 set -u
@@ -75,39 +76,28 @@ else
   failures+=("glTF fuzz smoke: tests/fuzz/run_gltf.sh is missing")
 fi
 
-# ---- QEMU framebuffer test (one test per screen configuration) ---------------------------------
-if [ -f tests/qemu-fbdev/run.sh ]; then
-  echo "qemu-fbdev: the fbdev sink on a real kernel's /dev/fb0 under QEMU"
-  start=$SECONDS
+# ---- scripts of checks, one test per "ok NAME: ..." / "not ok NAME: why" line they print ----------
+# run_checks LABEL SCRIPT WHAT
+run_checks() {
+  local label=$1 script=$2 what=$3 start=$SECONDS line
+  if [ ! -f "$script" ]; then
+    failed=$((failed + 1))
+    failures+=("$label: $script is missing")
+    return
+  fi
+  echo "$label: $what"
   while IFS= read -r line; do
     echo "$line" >>"$log"
     case "$line" in
-      "ok "*) passed=$((passed + 1)); echo "qemu-fbdev: ${line#ok }" ;;
-      "not ok "*) failed=$((failed + 1)); failures+=("qemu-fbdev ${line#not ok }") ;;
+      "ok "*) passed=$((passed + 1)); echo "$label: ${line#ok }" ;;
+      "not ok "*) failed=$((failed + 1)); failures+=("$label ${line#not ok }") ;;
     esac
-  done < <(bash tests/qemu-fbdev/run.sh "$build" 2>>"$log")
-  echo "qemu-fbdev: done in $((SECONDS - start)) s"
-else
-  failed=$((failed + 1))
-  failures+=("qemu-fbdev: tests/qemu-fbdev/run.sh is missing")
-fi
-
-# ---- firmware under QEMU (one test per check: tests/firmware/run.sh) ----------------------------
-if [ -f tests/firmware/run.sh ]; then
-  echo "firmware: Cortex-M boards under qemu-system-arm against the host's frames"
-  start=$SECONDS
-  while IFS= read -r line; do
-    echo "$line" >>"$log"
-    case "$line" in
-      "ok "*) passed=$((passed + 1)); echo "firmware: ${line#ok }" ;;
-      "not ok "*) failed=$((failed + 1)); failures+=("firmware ${line#not ok }") ;;
-    esac
-  done < <(bash tests/firmware/run.sh "$build" 2>>"$log")
-  echo "firmware: done in $((SECONDS - start)) s"
-else
-  failed=$((failed + 1))
-  failures+=("firmware: tests/firmware/run.sh is missing")
-fi
+  done < <(bash "$script" "$build" 2>>"$log")
+  echo "$label: done in $((SECONDS - start)) s"
+}
+run_checks release tests/release/run.sh "the -O2 CLI's pictures against the sanitized CLI's"
+run_checks qemu-fbdev tests/qemu-fbdev/run.sh "the fbdev sink on a real kernel's /dev/fb0 under QEMU"
+run_checks firmware tests/firmware/run.sh "Cortex-M boards under qemu-system-arm against the host's frames"
 
 if [ ${#failures[@]} -gt 0 ]; then
   echo "failed:"

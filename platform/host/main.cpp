@@ -60,6 +60,7 @@ const char* const kMainHelp =
 
 const char* const kCompileHelp =
     "usage: maskline compile IN.glb|IN.gltf -o OUT.mls [--texture-format F] [--texture-max N] [--mips M]\n"
+    "                        [--texture-filter F]\n"
     "\n"
     "Compiles a glTF 2.0 file into a scene blob (.mls): every node of the default scene with its\n"
     "transform, triangle primitives, materials, textures, a BSP tree. Prints a summary; warnings go to\n"
@@ -69,7 +70,10 @@ const char* const kCompileHelp =
     "                       texels: base colours, for a board built without textures)\n"
     "  --texture-max N      longest texture side after resampling to powers of two, 1..1024 (default 256)\n"
     "  --mips M             mip levels down to 1x1, sampled one a triangle: auto (default: for textures\n"
-    "                       whose glTF sampler asks for them, minFilter *_MIPMAP_*), on or off\n";
+    "                       whose glTF sampler asks for them, minFilter *_MIPMAP_*), on or off\n"
+    "  --texture-filter F   model (default: as each glTF sampler asks, NEAREST magnification nearest,\n"
+    "                       else bilinear), nearest (one texel a sample: the cheaper on a board) or\n"
+    "                       bilinear, for every texture\n";
 
 const char* const kInfoHelp =
     "usage: maskline info [SCENE] [--size WxH] [--aa N] [--renderer tiler|scanline]\n"
@@ -378,7 +382,8 @@ struct MappedArena {
 // ---- commands -------------------------------------------------------------------------------------
 
 int cmd_compile(int argc, char** argv) {
-  const Args a = parse_args(argc, argv, 2, {"-o", "--texture-format", "--texture-max", "--mips"}, {}, "compile");
+  const Args a = parse_args(argc, argv, 2, {"-o", "--texture-format", "--texture-max", "--mips", "--texture-filter"}, {},
+                            "compile");
   if (a.help) {
     fputs(kCompileHelp, stdout);
     return 0;
@@ -403,6 +408,12 @@ int cmd_compile(int argc, char** argv) {
     else if (*v == "on") options.texture_mips = ml::TextureMipChoice::On;
     else if (*v == "off") options.texture_mips = ml::TextureMipChoice::Off;
     else usage_error("--mips: expected auto, on or off, got '" + *v + "'");
+  }
+  if (const auto* v = find_option(a, "--texture-filter")) {
+    if (*v == "model") options.texture_filter = ml::TextureFilterChoice::Model;
+    else if (*v == "nearest") options.texture_filter = ml::TextureFilterChoice::Nearest;
+    else if (*v == "bilinear") options.texture_filter = ml::TextureFilterChoice::Bilinear;
+    else usage_error("--texture-filter: expected model, nearest or bilinear, got '" + *v + "'");
   }
   mlhost::LoadedScene loaded;
   const ml::Scene s = require_scene(in, &loaded, options);

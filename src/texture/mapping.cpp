@@ -383,9 +383,11 @@ ML_HOST_INLINE inline bool boxed_planes(const View& view, const Vec3i viewed[3],
   sums.at[2] = total, sums.dx[2] = tx, sums.dy[2] = ty;
   sums.x = int32_t(bx), sums.y = int32_t(by), sums.w = int32_t(w), sums.h = int32_t(h);
   sums.plain = plain_quotients(sums, least_w);
-  // log2_of(max_of(size, 1u)) for sizes that are powers of two (or 0), in fewer instructions.
-  out->size_bits[0] = __builtin_ctz(max_of(width, 1u));
-  out->size_bits[1] = __builtin_ctz(max_of(height, 1u));
+  // As planes_from_view. (Two adjacent __builtin_ctz stores here were miscompiled by GCC 12 at -O2
+  // with -mgeneral-regs-only: its SLP vectorizer took them as one 64-bit count, so size_bits[1] was 0
+  // and nearest small triangles sampled the wrong texel rows; the Makefile also turns that pass off.)
+  out->size_bits[0] = log2_of(max_of(width, 1u));
+  out->size_bits[1] = log2_of(max_of(height, 1u));
   out->error_bits = error_bits;
   out->exact = out->boxed = true;
   out->level = 0;

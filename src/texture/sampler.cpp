@@ -318,29 +318,34 @@ __attribute__((always_inline)) inline void bilinear_run(const TextureTexels& t, 
   bilinear_loop<Wrapping::Modes>(t, right, a[0], a[1], s[0], s[1], fetch, n, out);
 }
 
-// A small triangle's bilinear sample through the texture's white table (its texels decoded once):
-// the filter of the table's texels, x colour, as textured_colour's small order gives it. The format
-// is looked at per texel, one filter for all three (the boards' per-sample loop: their code budget).
+// Texel (x, y) of the texture's white table (its texels decoded once), the format looked at per texel
+// (the boards' per-sample loop below: one function for all three formats, their code budget).
+__attribute__((always_inline)) inline Pixel white_texel(const TextureTexels& t, const uint8_t* bytes, const Pixel* white,
+                                                        int32_t x, int32_t y) {
+  switch (TexelFormat(t.format)) {
+    case TexelFormat::Palette8: return LutTexels<TexelFormat::Palette8>(t, bytes, white)(x, y);
+    case TexelFormat::Grey4: return LutTexels<TexelFormat::Grey4>(t, bytes, white)(x, y);
+    default: return LutTexels<TexelFormat::Rgb565>(t, bytes, white)(x, y);
+  }
+}
+// A small triangle's bilinear sample through the white table: the filter of the table's texels,
+// x colour, as textured_colour's small order gives it.
 Pixel small_bilinear_white(const TextureTexels& t, const uint8_t* bytes, const Pixel* white, const int32_t uv[2],
                            Pixel colour) {
-  const auto fetch = [&](int32_t x, int32_t y) {
-    switch (TexelFormat(t.format)) {
-      case TexelFormat::Palette8: return LutTexels<TexelFormat::Palette8>(t, bytes, white)(x, y);
-      case TexelFormat::Grey4: return LutTexels<TexelFormat::Grey4>(t, bytes, white)(x, y);
-      default: return LutTexels<TexelFormat::Rgb565>(t, bytes, white)(x, y);
-    }
-  };
+  const auto fetch = [&](int32_t x, int32_t y) { return white_texel(t, bytes, white, x, y); };
   return modulate_texel(bilinear<false>(t, uv[0], uv[1], fetch), colour);
 }
 
-// The textured colour at uv decoding texels one by one: nearest, the texel x colour; bilinear, the
-// filter of the texels x colour (each neighbour modulated, as a modulated texel table gives them),
-// or for a small triangle the filter of the texels, x colour.
-Pixel textured_colour(const TextureTexels& t, const uint8_t* bytes, const int32_t uv[2], Pixel colour, bool small) {
+// The textured colour at uv decoding texels one by one: nearest, the texel x colour (the texel from
+// the texture's white table when given one); bilinear, the filter of the texels x colour (each
+// neighbour modulated, as a modulated texel table gives them), or for a small triangle the filter of
+// the texels, x colour.
+Pixel textured_colour(const TextureTexels& t, const uint8_t* bytes, const int32_t uv[2], Pixel colour, bool small,
+                      const Pixel* white = nullptr) {
   if (t.filter != uint8_t(TextureFilter::Bilinear)) {
     const int64_t su = int64_t(uv[0]) * t.width, sv = int64_t(uv[1]) * t.height;
-    return modulate_texel(texel(t, bytes, wrap(su >> 16, t.width, t.wrap_s), wrap(sv >> 16, t.height, t.wrap_t)),
-                          colour);
+    const int32_t x = wrap(su >> 16, t.width, t.wrap_s), y = wrap(sv >> 16, t.height, t.wrap_t);
+    return modulate_texel(white ? white_texel(t, bytes, white, x, y) : texel(t, bytes, x, y), colour);
   }
   // One filter for both orders (modulate_texel leaves a colour as it is for white): the code budget.
   const Pixel first = small ? 0xFFFFFF : colour, then = small ? colour : 0xFFFFFF;
@@ -920,20 +925,24 @@ void texture_rows(TexturePlanes& p, const TextureTexels& t, const uint8_t* bytes
 #else
   // Bilinear runs blend the table's texels as they are: those of the colour, or white ones drawn in
   // white (a small triangle's filter then product is the same). The other samples are decoded (the
-  // same colours, without the table's code).
+  // same colours, without the table's code), and a small triangle's nearest samples go one by one
+  // through its white table (as runs, each of its samples would be a piece of its own).
   const bool bilinear = t.filter == uint8_t(TextureFilter::Bilinear);
-  const bool per_sample = !lut || (bilinear && (lut_colour != colour || (p.exact && colour != 0xFFFFFF)));
+  const bool per_sample =
+      !lut || (bilinear ? lut_colour != colour || (p.exact && colour != 0xFFFFFF) : p.exact && p.boxed);
 #endif
   if (per_sample) {
     for (int32_t r = 0; r < rows; ++r) {
       if (p.boxed) {  // a small triangle: its box's sums stepped along the row (box_uv's coordinates)
-        const bool white = lut && lut_colour == 0xFFFFFF && t.filter == uint8_t(TextureFilter::Bilinear);
+        const Pixel* const white = lut && lut_colour == 0xFFFFFF ? lut : nullptr;
+        const bool bilinear_white = white && t.filter == uint8_t(TextureFilter::Bilinear);
         BoxSteps steps(p);
         steps.start(p, x, y + r);
         for (int32_t i = 0; i < n; ++i) {
           int32_t uv[2];
           steps.next(uv);
-          *out++ = white ? small_bilinear_white(t, bytes, lut, uv, colour) : textured_colour(t, bytes, uv, colour, true);
+          *out++ = bilinear_white ? small_bilinear_white(t, bytes, lut, uv, colour)
+                                  : textured_colour(t, bytes, uv, colour, true, white);
         }
         continue;
       }

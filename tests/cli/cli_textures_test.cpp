@@ -88,6 +88,37 @@ TEST_F(CliTextures, BadTextureOptionsAreUsageErrors) {
   clitest::expect_one_line_error(run_cli({"render", "--texture-pool", "-3"}), 2, "--texture-pool");
   clitest::expect_one_line_error(run_cli({"compile", kBoxTextured, "-o", path("x.mls"), "--texture-format", "jpeg"}),
                                  2, "--texture-format");
+  clitest::expect_one_line_error(run_cli({"compile", kBoxTextured, "-o", path("x.mls"), "--texture-filter", "cubic"}),
+                                 2, "--texture-filter");
+}
+
+// --texture-filter: every texture sampled nearest or bilinear whatever its glTF sampler asks; model
+// (the default) keeps the sampler's.
+TEST_F(CliTextures, CompileTextureFilterOverridesTheSamplers) {
+  if (!clitest::file_exists(kBoxTextured)) GTEST_SKIP() << "assimp-testmodels not installed";
+  const char* const filters[] = {"model", "nearest", "bilinear"};
+  for (const char* f : filters) {
+    const RunResult c = run_cli({"compile", kBoxTextured, "-o", path(std::string(f) + ".mls"), "--texture-filter", f});
+    ASSERT_EQ(c.exit_code, 0) << c.describe();
+  }
+  const RunResult plain = run_cli({"compile", kBoxTextured, "-o", path("default.mls")});
+  ASSERT_EQ(plain.exit_code, 0) << plain.describe();
+  EXPECT_EQ(clitest::read_bytes(path("model.mls")), clitest::read_bytes(path("default.mls")));
+  // BoxTextured's sampler is bilinear (magFilter LINEAR): nearest changes only the filter.
+  const RunResult bilinear = run_cli({"info", path("bilinear.mls")});
+  const RunResult nearest = run_cli({"info", path("nearest.mls")});
+  EXPECT_NE(bilinear.out.find("wrap repeat/repeat, bilinear"), std::string::npos) << bilinear.out;
+  EXPECT_NE(nearest.out.find("wrap repeat/repeat, nearest"), std::string::npos) << nearest.out;
+  EXPECT_EQ(clitest::read_bytes(path("bilinear.mls")), clitest::read_bytes(path("model.mls")));
+  for (const char* renderer : {"tiler", "scanline"}) {
+    const RunResult a = run_cli({"render", path("model.mls"), "--renderer", renderer, "--size", "96x72", "-o",
+                                 path("bilinear.png")});
+    const RunResult b = run_cli({"render", path("nearest.mls"), "--renderer", renderer, "--size", "96x72", "-o",
+                                 path("nearest.png")});
+    ASSERT_EQ(a.exit_code, 0) << a.describe();
+    ASSERT_EQ(b.exit_code, 0) << b.describe();
+    EXPECT_NE(clitest::read_bytes(path("bilinear.png")), clitest::read_bytes(path("nearest.png"))) << renderer;
+  }
 }
 
 }  // namespace

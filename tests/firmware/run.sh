@@ -39,7 +39,8 @@ if [ -n "$missing" ]; then
   for n in mps2-tiler-bytes mps2-scanline-bytes mps2-tiler-picture mps2-scanline-picture lm3s-tiler-oled \
     lm3s-scanline-oled m0plus-microbit-crc m0plus-without-textures render-on-qemu render-on-qemu-tiler-aa render-on-qemu-textured-tiler \
     render-on-qemu-textured-scanline render-on-qemu-small-textured-tiler render-on-qemu-small-textured-scanline \
-    render-on-qemu-duck-tiler render-on-qemu-duck-scanline flash-budget no-soft-float; do
+    render-on-qemu-duck-tiler render-on-qemu-duck-scanline render-on-qemu-duck-nearest-tiler \
+    render-on-qemu-duck-nearest-scanline flash-budget no-soft-float; do
     not_ok "$n" "$missing"
   done
   exit 1
@@ -187,18 +188,24 @@ for r in tiler scanline; do
     "$texture_transform" --renderer $r --size 160x120
 done
 # Small bilinear triangles in a flat colour (filtered, then multiplied: docs/textures.md): the COLLADA
-# duck (4,212 triangles, a 256x256 palette texture), converted by assimp with its texture beside it.
+# duck (4,212 triangles, a 256x256 palette texture), converted by assimp with its texture beside it;
+# and compiled --texture-filter nearest, its small triangles' texels from the texture's white table.
 duck_dir=/usr/share/assimp/models/Collada
 mkdir -p "$run/duck-model"
 if cp "$duck_dir/duckCM.tga" "$run/duck-model/" 2>/dev/null &&
   assimp export "$duck_dir/duck.dae" "$run/duck-model/duck.glb" -f glb2 >/dev/null 2>&1 &&
-  "$cli" compile "$run/duck-model/duck.glb" -o "$run/duck-model/duck.mls" >/dev/null 2>&1; then
+  "$cli" compile "$run/duck-model/duck.glb" -o "$run/duck-model/duck.mls" >/dev/null 2>&1 &&
+  "$cli" compile "$run/duck-model/duck.glb" -o "$run/duck-model/duck-nearest.mls" --texture-filter nearest >/dev/null 2>&1; then
   for r in tiler scanline; do
     render_on_qemu "render-on-qemu-duck-$r" "the textured duck's small bilinear triangles with the $r" \
       "$run/duck-model/duck.mls" --renderer $r --size 160x120
+    render_on_qemu "render-on-qemu-duck-nearest-$r" "the duck's small nearest triangles with the $r" \
+      "$run/duck-model/duck-nearest.mls" --renderer $r --size 160x120
   done
 else
-  for r in tiler scanline; do not_ok "render-on-qemu-duck-$r" "the duck could not be converted and compiled"; done
+  for r in tiler scanline; do
+    for n in "render-on-qemu-duck-$r" "render-on-qemu-duck-nearest-$r"; do not_ok "$n" "the duck could not be converted and compiled"; done
+  done
 fi
 
 # ---- flash budget: code and tables of each board image -----------------------------------------------

@@ -57,6 +57,35 @@ TEST(TextureEncode, AutoPicksTheFormatFromTheImage) {
   EXPECT_EQ(many.bytes.size(), many.info.bytes);
 }
 
+TEST(TextureEncode, FilterChoiceOverridesTheSampler) {
+  const auto img = image_of(8, 8, [](int x, int y) { return uint32_t(x * 30) << 16 | uint32_t(y * 30); });
+  ml::CompileOptions o;
+  for (const ml::TextureFilter asked : {ml::TextureFilter::Nearest, ml::TextureFilter::Bilinear}) {
+    ml::MeshSampler s;
+    s.filter = asked;
+    s.wrap_s = ml::TextureWrap::MirroredRepeat;
+    o.texture_filter = ml::TextureFilterChoice::Model;
+    EXPECT_EQ(ml::encode_texture(img, s, o).info.filter, uint8_t(asked));
+    o.texture_filter = ml::TextureFilterChoice::Nearest;
+    const auto nearest = ml::encode_texture(img, s, o);
+    EXPECT_EQ(nearest.info.filter, uint8_t(ml::TextureFilter::Nearest));
+    EXPECT_EQ(nearest.info.wrap_s, uint8_t(ml::TextureWrap::MirroredRepeat));  // the rest of the sampler kept
+    o.texture_filter = ml::TextureFilterChoice::Bilinear;
+    EXPECT_EQ(ml::encode_texture(img, s, o).info.filter, uint8_t(ml::TextureFilter::Bilinear));
+  }
+  // The banded scene (three nearest samplers, one bilinear) compiled bilinear and nearest.
+  for (const auto choice : {ml::TextureFilterChoice::Nearest, ml::TextureFilterChoice::Bilinear}) {
+    o.texture_filter = choice;
+    const ml::CompileResult r = ml::compile_mesh(ml::make_banded_scene(), o);
+    ml::Scene scene;
+    ASSERT_TRUE(r.ok) << r.error;
+    ASSERT_TRUE(scenetest::read(r.blob, &scene).ok());
+    ASSERT_EQ(scene.texture_texels_count, 4u);
+    const auto want = choice == ml::TextureFilterChoice::Nearest ? ml::TextureFilter::Nearest : ml::TextureFilter::Bilinear;
+    for (uint32_t i = 0; i < scene.texture_texels_count; ++i) EXPECT_EQ(scene.texture_texels[i].filter, uint8_t(want)) << i;
+  }
+}
+
 TEST(TextureEncode, PaletteOfTheSameColoursIsExact) {
   const ml::MeshSampler s;
   ml::CompileOptions o;

@@ -26,12 +26,13 @@ inline std::string duck_model() { return testfiles::converted_model("Collada/duc
 
 // The textured inputs: the banded scene, the assimp models with textures and the duck; BoxTextured's
 // sampler asks for mip levels, and the duck and the banded scene are also compiled with them ("mips:"
-// before a path: load() compiles it with --mips on).
+// before a path: load() compiles it with --mips on), the duck with every texture nearest too
+// ("nearest:": --texture-filter nearest).
 inline std::vector<std::string> textured_scenes() {
   return {"builtin:banded", model("BoxTextured-glTF/BoxTextured.gltf"), model("BoxTextured-glTF-Binary/BoxTextured.glb"),
           model("BoxTextured-glTF-Embedded/BoxTextured.gltf"), model("BoxTexcoords-glTF/boxTexcoords.gltf"),
           model("textureTransform/TextureTransformTest.gltf"), duck_model(), "mips:builtin:banded",
-          "mips:" + duck_model()};
+          "mips:" + duck_model(), "nearest:" + duck_model()};
 }
 
 // Loads once per test binary (compiling the models takes a moment under the sanitizers).
@@ -46,6 +47,9 @@ inline const mlhost::LoadedScene& load(const std::string& path) {
   if (file.rfind("mips:", 0) == 0) {
     file = file.substr(5);
     options.texture_mips = ml::TextureMipChoice::On;
+  } else if (file.rfind("nearest:", 0) == 0) {
+    file = file.substr(8);
+    options.texture_filter = ml::TextureFilterChoice::Nearest;
   }
   if (!mlhost::load_scene(file, &loaded, &error, false, options)) loaded.name = "FAILED: " + error;
   return loaded;

@@ -238,8 +238,9 @@ int usage() {
 }
 
 // A textured scene compiled in a variant: `plain` without texels (every texture draws its material
-// colour: the untextured baseline of a textured frame), `nearest` or `bilinear` with every sampler's
-// filter set so, `mips` with every texture's mip levels. An empty path is the banded scene.
+// colour: the untextured baseline of a textured frame), `nearest` or `bilinear` with every texture
+// sampled so (maskline compile --texture-filter), `mips` with every texture's mip levels. An empty path
+// is the banded scene.
 ml::CompileResult compile_variant(const std::string& variant, const std::string& path) {
   ml::SceneMesh mesh;
   if (path.empty()) {
@@ -249,11 +250,9 @@ ml::CompileResult compile_variant(const std::string& variant, const std::string&
     ml::CompileResult failed;
     if (!ml::import_gltf_file(path, &mesh, &warnings, &failed.error)) return failed;
   }
-  for (ml::MeshSampler& s : mesh.texture_samplers) {
-    if (variant == "nearest") s.filter = ml::TextureFilter::Nearest;
-    if (variant == "bilinear") s.filter = ml::TextureFilter::Bilinear;
-  }
   ml::CompileOptions options;
+  if (variant == "nearest") options.texture_filter = ml::TextureFilterChoice::Nearest;
+  if (variant == "bilinear") options.texture_filter = ml::TextureFilterChoice::Bilinear;
   if (variant == "plain") options.texture_format = ml::TextureFormatChoice::None;
   if (variant == "mips") options.texture_mips = ml::TextureMipChoice::On;
   return ml::compile_mesh(mesh, options);

@@ -51,7 +51,8 @@ add "m0plus (microbit)" "Cortex-M0+ code" "bundled (3,826 triangles)" "128x64 Gr
 
 # A textured model on the board: the COLLADA duck (4,212 triangles, one 256x256 palette texture,
 # bilinear) as textures.sh converts it, rendered by tools/board/render-on-qemu on the mps2-an385 image
-# (texels sampled in place from flash), against the same scene compiled without its images.
+# (texels sampled in place from flash), compiled as its glTF asks and with every texture nearest
+# (maskline compile --texture-filter nearest), against the same scene compiled without its images.
 duck_dir=/usr/share/assimp/models/Collada
 ratios=()
 # add_json IMAGE CPU SCENE FRAME RENDERER JSON: a row from render-on-qemu's --stats line
@@ -66,16 +67,17 @@ if [ -f "$duck_dir/duck.dae" ] && [ -f "$duck_dir/duckCM.tga" ] && command -v as
   assimp export "$duck_dir/duck.dae" "$work/duck-textured/duck.glb" -f glb2 >/dev/null
   "$build/bench" prepare "$work/duck-textured/duck.glb" "$work/duck.mls" >/dev/null
   "$build/bench" prepare "plain:$work/duck-textured/duck.glb" "$work/duck-plain.mls" >/dev/null
+  "$build/bench" prepare "nearest:$work/duck-textured/duck.glb" "$work/duck-nearest.mls" >/dev/null
+  declare -A label=([duck]="textured (bilinear)" [duck-nearest]="textured, nearest" [duck-plain]="untextured")
   for r in tiler scanline; do
     declare -A count=()
-    for s in duck duck-plain; do
+    for s in duck duck-nearest duck-plain; do
       json=$(BUILD="$build" tools/board/render-on-qemu "$work/$s.mls" -o "$work/$s-$r.png" --renderer $r --size 160x120 --stats | tail -1)
-      label="duck (4,212 triangles), textured"
-      [ $s = duck-plain ] && label="duck (4,212 triangles), untextured"
-      add_json mps2-an385 "Cortex-M3" "$label" "160x120 RGB565" $r "$json"
+      add_json mps2-an385 "Cortex-M3" "duck (4,212 triangles), ${label[$s]}" "160x120 RGB565" $r "$json"
       count[$s]=$(grep -o '"instructions":[0-9]*' <<<"$json" | cut -d: -f2)
     done
-    ratios+=("$r $(awk -v a="${count[duck]}" -v b="${count[duck-plain]}" 'BEGIN { printf "%.2f", a / b }')")
+    ratios+=("$r $(awk -v a="${count[duck]}" -v n="${count[duck-nearest]}" -v b="${count[duck-plain]}" \
+      'BEGIN { printf "%.2f (nearest %.2f)", a / b, n / b }')")
   done
 else
   echo "bench-board: no duck model (needs assimp-testmodels and assimp-utils: tools/bootstrap.sh)"

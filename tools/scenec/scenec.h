@@ -143,6 +143,14 @@ enum class TextureFormatChoice : uint8_t {
   None,      // no texels: every material in its base colour (for a build without textures, ML_TEXTURES=0)
 };
 
+// Which filter textures are sampled with (docs/textures.md, Sampler): what the model's sampler asks, or
+// one filter for every texture (nearest is the cheaper on a board: one texel a sample instead of four).
+enum class TextureFilterChoice : uint8_t {
+  Model,     // the glTF sampler's: NEAREST magnification gives nearest, anything else bilinear
+  Nearest,
+  Bilinear,
+};
+
 // Which textures get mip levels (docs/textures.md).
 enum class TextureMipChoice : uint8_t {
   Auto,  // those whose glTF sampler asks for them (minFilter *_MIPMAP_*)
@@ -155,6 +163,7 @@ struct CompileOptions {
   TextureFormatChoice texture_format = TextureFormatChoice::Auto;
   int texture_max_size = 256;         // longest texture side after resampling, a power of two <= 1024
   TextureMipChoice texture_mips = TextureMipChoice::Auto;
+  TextureFilterChoice texture_filter = TextureFilterChoice::Model;
   // BSP plane choice (tools/scenec/bsp.cpp). Defaults measured on the procedural scenes and
   // 2CylinderEngine: lower split ratios cost depth and build time.
   uint32_t bsp_seed = 1;              // plane sampling is deterministic for a given seed

@@ -226,7 +226,9 @@ EncodedTexture encode_texture(const MeshImage& image, const MeshSampler& sampler
   out.info.format = uint8_t(format);
   out.info.wrap_s = uint8_t(sampler.wrap_s);
   out.info.wrap_t = uint8_t(sampler.wrap_t);
-  out.info.filter = uint8_t(sampler.filter);
+  out.info.filter = uint8_t(options.texture_filter == TextureFilterChoice::Nearest    ? TextureFilter::Nearest
+                            : options.texture_filter == TextureFilterChoice::Bilinear ? TextureFilter::Bilinear
+                                                                                      : sampler.filter);
   // The mip levels' texels, when stored: from the resampled texels, before they take the format.
   const bool mips = options.texture_mips == TextureMipChoice::On ||
                     (options.texture_mips == TextureMipChoice::Auto && sampler.mipmaps);
