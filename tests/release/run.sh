@@ -16,6 +16,9 @@ models=/usr/share/assimp/models/glTF2
 box="$models/BoxTextured-glTF-Binary/BoxTextured.glb"
 transform="$models/textureTransform/TextureTransformTest.gltf"
 engine="$models/2CylinderEngine-glTF-Binary/2CylinderEngine.glb"
+# BoxTextured compiled nearest (by the release CLI; both CLIs read that blob): small nearest triangles.
+box_nearest="$work/box-nearest.mls"
+[ -f "$box" ] && "$release" compile "$box" -o "$box_nearest" --texture-filter nearest >/dev/null 2>&1
 
 frames=(
   "bundled-tiler|--size 320x240"
@@ -28,21 +31,17 @@ frames=(
   "banded-small-scanline|builtin:banded --renderer scanline --size 48x36"
   "boxtextured-tiler|$box --size 160x120"
   "boxtextured-scanline-aa2|$box --renderer scanline --aa 2 --size 160x120"
-  "boxtextured-nearest-small-tiler|@box-nearest --size 48x36"
-  "boxtextured-nearest-small-scanline|@box-nearest --renderer scanline --size 48x36"
+  "boxtextured-nearest-small-tiler|$box_nearest --size 48x36"
+  "boxtextured-nearest-small-scanline|$box_nearest --renderer scanline --size 48x36"
   "texture-transform-scanline|$transform --renderer scanline --size 160x120"
   "engine-tiler|$engine --size 96x72"
 )
 
-# Scenes compiled first (by the release CLI; both read the same blob): "@NAME" in a frame's options.
-if [ -f "$box" ]; then "$release" compile "$box" -o "$work/box-nearest.mls" --texture-filter nearest >/dev/null 2>&1; fi
-
 for frame in "${frames[@]}"; do
   name=${frame%%|*}
   read -r -a opts <<<"${frame#*|}"
-  for i in "${!opts[@]}"; do [[ ${opts[$i]} == @* ]] && opts[$i]="$work/${opts[$i]#@}.mls"; done
-  for o in "${opts[@]}"; do
-    if [[ $o == /* && ! -e $o ]]; then echo "not ok release-$name: $o is missing"; continue 2; fi
+  for o in "${opts[@]}"; do  # a scene file the frame names
+    if [[ $o == *.gl* || $o == *.mls ]] && [ ! -e "$o" ]; then echo "not ok release-$name: $o is missing"; continue 2; fi
   done
   if ! "$release" render "${opts[@]}" -o "$work/$name-release.png" >/dev/null 2>"$work/$name.err"; then
     echo "not ok release-$name: the release CLI failed: $(tail -1 "$work/$name.err")"
